@@ -1,0 +1,46 @@
+# Two commands on a fresh machine: `make demo` and `make test`. Both create .venv with python3.11.
+PYTHON ?= python3.11
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed-dev
+CMP_STAMP := $(VENV)/.installed-compare
+PYTEST_FLAGS ?=
+
+.PHONY: demo test test-all lint format bench clean
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install -q --upgrade pip
+
+$(STAMP): pyproject.toml constraints.txt | $(BIN)/python
+	$(BIN)/pip install -q -c constraints.txt -e ".[dev]"
+	touch $@
+
+$(CMP_STAMP): $(STAMP)
+	$(BIN)/pip install -q -c constraints.txt -e ".[dev,compare]"
+	touch $@
+
+demo: $(STAMP)
+	$(BIN)/kinetix demo
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests
+	$(BIN)/ruff format --check src tests
+
+format: $(STAMP)
+	$(BIN)/ruff format src tests
+	$(BIN)/ruff check --fix src tests
+
+test: lint
+	$(BIN)/pytest -m "not slow" $(PYTEST_FLAGS)
+
+test-all: lint
+	$(BIN)/pytest $(PYTEST_FLAGS)
+
+bench: $(CMP_STAMP)
+	$(BIN)/kinetix bench engine --size s --envs 1,64,1024,4096 --against jax2d --json bench-s.json
+	$(BIN)/kinetix bench engine --size m --envs 1,64,1024,4096 --against jax2d --json bench-m.json
+	$(BIN)/kinetix bench engine --size l --envs 1,64,1024,4096 --against jax2d --json bench-l.json
+
+clean:
+	rm -rf $(VENV) .pytest_cache .ruff_cache

@@ -1,0 +1,136 @@
+"""One engine step, as a recipe of named phases.
+
+    gravity -> motors -> thrusters -> collide -> prepare contacts and joints -> warm start
+    -> solve velocities (Gauss-Seidel) -> store impulses -> integrate positions -> correct joint drift -> clip
+
+`step(static, params, state, actions)` is pure; jit it with `static` static, vmap it over scenes.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import jax
+import jax.numpy as jnp
+from flax import struct
+
+from engine.actuators import apply_gravity, apply_motors, apply_thrusters
+from engine.config import Params, Static
+from engine.contacts import prepare_contacts, store_contact_impulses, warm_start_contacts
+from engine.geometry import mass_properties
+from engine.joints import correct_joint_positions, prepare_joints, warm_start_joints
+from engine.narrowphase import collide, speculative_margins
+from engine.pairs import collidable_pairs, pair_table
+from engine.solver import solve_velocities, stack
+from engine.state import Bodies, State
+
+
+@struct.dataclass
+class StepInfo:
+    """What happened in a step, for the environment and for diagnostics.
+
+    Attributes:
+        touching: (num_pairs,) bool, pair p of `pairs.pair_table(static)` is within `Params.touch_distance`
+            at the start of the step (pairs that may not collide never touch).
+        dropped_contacts: () int32 contact points that touched but did not fit in `Static.max_contacts`.
+    """
+
+    touching: jax.Array
+    dropped_contacts: jax.Array
+
+
+def pack_velocities(bodies: Bodies) -> jax.Array:
+    """(N, 3) rows (vx, vy, omega)."""
+    return jnp.concatenate([bodies.velocity, bodies.angular_velocity[:, None]], axis=-1)
+
+
+def integrate_positions(params: Params, bodies: Bodies, v3: jax.Array, inv_mass: jax.Array, inv_inertia):
+    """Symplectic Euler: store the solved velocities and move positions [m] and angles [rad] by v dt."""
+    moving = (inv_mass > 0) | (inv_inertia > 0)
+    v3 = jnp.where(moving[:, None], v3, 0.0)
+    return bodies.replace(
+        velocity=v3[:, :2],
+        angular_velocity=v3[:, 2],
+        position=bodies.position + params.dt * v3[:, :2],
+        angle=bodies.angle + params.dt * v3[:, 2],
+    )
+
+
+def clip_state(params: Params, bodies: Bodies) -> Bodies:
+    """Clip positions, velocities and angular velocities to the reference's bounds."""
+    return bodies.replace(
+        position=jnp.clip(bodies.position, -params.clip_position, params.clip_position),
+        velocity=jnp.clip(bodies.velocity, -params.clip_velocity, params.clip_velocity),
+        angular_velocity=jnp.clip(bodies.angular_velocity, -params.clip_angular_velocity, params.clip_angular_velocity),
+    )
+
+
+def step(static: Static, params: Params, state: State, actions: jax.Array) -> tuple[State, StepInfo]:
+    """Advance one scene by `params.dt`.
+
+    Args:
+        static: capacities (hashable; static under jit).
+        params: physical constants.
+        state: the scene.
+        actions: (J + T,) motor actions in [-1, 1] for each joint, then thruster actions in [0, 1].
+    """
+    bodies = state.bodies
+    inv_mass, inv_inertia = mass_properties(bodies, static.num_polygons)
+    inv_mass3 = jnp.stack([inv_mass, inv_mass, inv_inertia], axis=-1)
+
+    v3 = pack_velocities(bodies)
+    v3 = apply_gravity(params, state, inv_mass, v3)
+    v3 = apply_motors(static, params, state, actions[: static.num_joints], inv_inertia, v3)
+    v3 = apply_thrusters(static, params, state, actions[static.num_joints :], inv_mass, inv_inertia, v3)
+
+    margins = speculative_margins(static, bodies, v3, params.speculative_distance, params.dt)
+    manifold = collide(static, bodies, margins)
+    table = pair_table(static)
+    collidable = collidable_pairs(static, bodies, state.joints)[table.point_pair]
+    movable = (inv_mass3.sum(-1) > 0)[table.a[table.point_pair]] | (inv_mass3.sum(-1) > 0)[table.b[table.point_pair]]
+    contacts, dropped = prepare_contacts(
+        static, params, bodies, inv_mass3, v3, manifold, manifold.valid & collidable & movable, state.contacts
+    )
+    joints = prepare_joints(static, params, bodies, state.joints, inv_mass, inv_inertia)
+
+    v3 = warm_start_joints(joints, v3)
+    v3 = warm_start_contacts(contacts, v3)
+    v3, impulses = solve_velocities(static, contacts, joints, v3)
+
+    cache = store_contact_impulses(
+        static,
+        contacts,
+        manifold,
+        stack(impulses.contact_normal, contacts.normal_impulse),
+        stack(impulses.contact_tangent, contacts.tangent_impulse),
+    )
+    new_joints = state.joints.replace(
+        impulse=stack(impulses.joint_point, joints.impulse),
+        angular_impulse=stack(impulses.joint_angle, joints.angular_impulse),
+        lower_impulse=stack(impulses.joint_lower, joints.lower_impulse),
+        upper_impulse=stack(impulses.joint_upper, joints.upper_impulse),
+    )
+
+    bodies = integrate_positions(params, bodies, v3, inv_mass, inv_inertia)
+    bodies = correct_joint_positions(static, params, bodies, new_joints, inv_mass, inv_inertia)
+    bodies = clip_state(params, bodies)
+
+    touch_points = manifold.valid & collidable & (manifold.separation <= params.touch_distance)
+    touching = jnp.zeros(table.num_pairs, bool).at[jnp.asarray(table.point_pair)].max(touch_points)
+    new_state = state.replace(bodies=bodies, joints=new_joints, contacts=cache)
+    return new_state, StepInfo(touching=touching, dropped_contacts=dropped)
+
+
+@functools.partial(jax.jit, static_argnums=(0,))
+def step_batch(static: Static, params: Params, states: State, actions: jax.Array) -> tuple[State, StepInfo]:
+    """`step` vmapped over a leading batch axis of `states` and `actions` (params shared)."""
+    return jax.vmap(step, in_axes=(None, None, 0, 0))(static, params, states, actions)
+
+
+def touching_matrix(static: Static, touching: jax.Array) -> jax.Array:
+    """(N, N) symmetric bool from the per-pair `StepInfo.touching` (num_pairs,)."""
+    table = pair_table(static)
+    a, b = jnp.asarray(table.a), jnp.asarray(table.b)
+    n = static.num_bodies
+    matrix = jnp.zeros((n, n), bool).at[a, b].set(touching)
+    return matrix | matrix.T

@@ -1,0 +1,9 @@
+"""User-facing errors: one clear line naming the file and field, and exit code 2."""
+
+from __future__ import annotations
+
+
+class UserError(Exception):
+    """Bad input from the user (a file, a flag, a config key). The CLI prints it and exits with code 2."""
+
+    exit_code = 2

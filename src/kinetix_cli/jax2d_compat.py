@@ -1,0 +1,121 @@
+"""Build our scenes in the reference engine (Jax2D 1.0.2, extra `compare`) for side-by-side benchmarks.
+
+Imports jax2d lazily: the rest of the toolkit never needs it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from engine.config import NUM_ARENA_POLYGONS, Static
+from engine.scene import Scene
+
+
+class Jax2DMissing(RuntimeError):
+    """Jax2D is not installed."""
+
+
+def _import():
+    try:
+        from jax2d.engine import PhysicsEngine, create_empty_sim
+        from jax2d.scene import (
+            add_circle_to_scene,
+            add_fixed_joint_to_scene,
+            add_polygon_to_scene,
+            add_revolute_joint_to_scene,
+            add_thruster_to_scene,
+        )
+        from jax2d.sim_state import SimParams, StaticSimParams
+    except ImportError as exc:
+        raise Jax2DMissing("jax2d is not installed; install the extra: pip install -e '.[compare]'") from exc
+    return {
+        "PhysicsEngine": PhysicsEngine,
+        "create_empty_sim": create_empty_sim,
+        "SimParams": SimParams,
+        "StaticSimParams": StaticSimParams,
+        "circle": add_circle_to_scene,
+        "fixed": add_fixed_joint_to_scene,
+        "polygon": add_polygon_to_scene,
+        "revolute": add_revolute_joint_to_scene,
+        "thruster": add_thruster_to_scene,
+    }
+
+
+def jax2d_static(static: Static):
+    """Jax2D's StaticSimParams with our capacities and solver iterations."""
+    j2d = _import()
+    return j2d["StaticSimParams"](
+        num_polygons=static.num_polygons,
+        num_circles=static.num_circles,
+        num_joints=static.num_joints,
+        num_thrusters=static.num_thrusters,
+        num_solver_iterations=static.solver_iterations,
+    )
+
+
+def jax2d_engine(static: Static):
+    """(step function (state, params, actions) -> (state, manifolds), SimParams) of the reference engine."""
+    j2d = _import()
+    engine = j2d["PhysicsEngine"](jax2d_static(static))
+    return engine.step, j2d["SimParams"]()
+
+
+def build_jax2d_state(scene: Scene, static: Static):
+    """The same scene as a Jax2D SimState: same slots, centres of mass, anchors, materials and actuators.
+
+    Polygons are passed clockwise about our area centroid (Jax2D's convention). Jax2D's own defects apply
+    (vertex-average centroid for triangles, half circle inertia, fixed joints without a reference angle).
+    """
+    j2d = _import()
+    ssp = jax2d_static(static)
+    state = j2d["create_empty_sim"](ssp)
+    built = scene.build_numpy(static)
+    b = built.bodies
+
+    def material(slot):
+        return {
+            "rotation": float(b.angle[slot]),
+            "velocity": np.asarray(b.velocity[slot]),
+            "angular_velocity": float(b.angular_velocity[slot]),
+            "density": float(b.density[slot]),
+            "friction": float(b.friction[slot]),
+            "restitution": float(b.restitution[slot]),
+            "fixated": bool(b.fixed[slot]),
+        }
+
+    for i in range(len(scene.polygons)):
+        slot = NUM_ARENA_POLYGONS + i
+        n = int(b.num_vertices[slot])
+        clockwise = np.asarray(b.vertices[slot, :n][::-1])
+        state, _ = j2d["polygon"](state, ssp, np.asarray(b.position[slot]), clockwise, n, **material(slot))
+    for i in range(len(scene.circles)):
+        slot = static.num_polygons + i
+        state, _ = j2d["circle"](state, ssp, np.asarray(b.position[slot]), float(b.radius[slot]), **material(slot))
+    jt = built.joints
+    for j in range(len(scene.joints)):
+        args = (
+            state,
+            ssp,
+            int(jt.body_a[j]),
+            int(jt.body_b[j]),
+            np.asarray(jt.anchor_a[j]),
+            np.asarray(jt.anchor_b[j]),
+        )
+        if jt.fixed[j]:
+            state, _ = j2d["fixed"](*args)
+        else:
+            state, _ = j2d["revolute"](
+                *args,
+                motor_on=bool(jt.motor_on[j]),
+                motor_speed=float(jt.motor_speed[j]),
+                motor_power=float(jt.motor_power[j]),
+                has_joint_limits=bool(jt.has_limits[j]),
+                min_rotation=float(jt.min_angle[j]),
+                max_rotation=float(jt.max_angle[j]),
+            )
+    th = built.thrusters
+    for t in range(len(scene.thrusters)):
+        state, _ = j2d["thruster"](
+            state, int(th.body[t]), np.asarray(th.anchor[t]), float(th.angle[t]), float(th.power[t])
+        )
+    return state
