@@ -1,0 +1,1 @@
+"""Pytest configuration: the helpers in sim.py share compiled functions across the whole session."""
