@@ -65,7 +65,7 @@ class Static:
 SIZES: dict[str, Static] = {
     "s": Static(num_polygons=5, num_circles=2, num_joints=1, num_thrusters=1, max_contacts=8),
     "m": Static(num_polygons=6, num_circles=3, num_joints=2, num_thrusters=2, max_contacts=12),
-    "l": Static(num_polygons=12, num_circles=4, num_joints=6, num_thrusters=2, max_contacts=20),
+    "l": Static(num_polygons=12, num_circles=4, num_joints=6, num_thrusters=2, max_contacts=24),
 }
 """The Kinetix sizes (polygons incl. arena / circles / joints / thrusters): s 5/2/1/1, m 6/3/2/2, l 12/4/6/2."""
 
