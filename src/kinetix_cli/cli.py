@@ -83,11 +83,11 @@ def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds."))
         table.add_row(f"{f.t:.2f}", f"{f.x:.2f}", f"{f.y:.2f}", f"{f.angle_deg:.1f}", f"{f.speed:.2f}")
     console.print(table)
     start, end = frames[0], frames[-1]
-    climbed = end.y - start.y
+    peak = max(frames, key=lambda f: f.y)
     console.print(f"compile {compile_s:.1f} s; simulated {end.t:.1f} s at {rate:,.0f} engine steps/s (1 scene).")
     console.print(
-        f"the car moved {end.x - start.x:+.2f} m right and {climbed:+.2f} m up"
-        + (" — it reached the ramp." if end.x > 2.6 else ".")
+        f"the car drove {end.x - start.x:+.2f} m right and climbed the ramp to {peak.y - start.y:+.2f} m "
+        f"(t = {peak.t:.1f} s, tilted {peak.angle_deg:.0f} deg)."
     )
 
 
