@@ -226,3 +226,20 @@ def test_fast_thin_body_does_not_tunnel():
     ball = scene.add_circle((1.0, 2.5), radius=0.05, velocity=(40.0, 0.0))
     _, traj = simulate(WORLD, scene.build(WORLD), 1.0)
     assert traj.position[:, slot(scene, ball), 0].max() < 3.0 - 0.025 - 0.05 + 0.01
+
+
+def test_touching_flags_per_pair():
+    """A ball resting on a box touches the box (and the box the floor); the ball never touches the far circle."""
+    from engine import touching_matrix
+    from engine.pairs import pair_table
+
+    scene = Scene()
+    box = scene.add_box((2.0, FLOOR + 0.2), size=(0.6, 0.4))
+    ball = scene.add_circle((2.0, FLOOR + 0.4 + 0.15), radius=0.15)
+    far = scene.add_circle((4.0, 3.0), radius=0.1, fixed=True)
+    _, traj = simulate(WORLD, scene.build(WORLD), 1.0)
+    matrix = np.asarray(touching_matrix(WORLD, traj.touching[-1]))
+    i, j, k = slot(scene, box), slot(scene, ball), slot(scene, far)
+    assert matrix[i, j] and matrix[j, i] and matrix[0, i]
+    assert not matrix[j, k] and not matrix[0, j]
+    assert traj.touching.shape[1] == pair_table(WORLD).num_pairs
