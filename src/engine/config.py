@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import jax.numpy as jnp
 from flax import struct
 
 NUM_ARENA_POLYGONS = 4
@@ -123,7 +122,3 @@ class Params:
     clip_position: float = 15.0
     clip_velocity: float = 100.0
     clip_angular_velocity: float = 50.0
-
-    def as_float32(self) -> Params:
-        """Every field as a float32 array (what the step sees)."""
-        return Params(**{f.name: jnp.float32(getattr(self, f.name)) for f in dataclasses.fields(self)})

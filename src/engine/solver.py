@@ -63,6 +63,6 @@ def solve_velocities(
     return jax.lax.fori_loop(0, static.solver_iterations, sweep, (v3, start))
 
 
-def stack(values: tuple, like: jax.Array) -> jax.Array:
+def stack_values(values: tuple, like: jax.Array) -> jax.Array:
     """Stack a tuple of per-constraint values back into an array shaped like `like`."""
     return jnp.stack(values) if values else jnp.zeros_like(like)

@@ -21,7 +21,7 @@ from engine.geometry import mass_properties
 from engine.joints import correct_joint_positions, prepare_joints, warm_start_joints
 from engine.narrowphase import collide, speculative_margins
 from engine.pairs import collidable_pairs, pair_table
-from engine.solver import solve_velocities, stack
+from engine.solver import solve_velocities, stack_values
 from engine.state import Bodies, State
 
 
@@ -101,14 +101,14 @@ def step(static: Static, params: Params, state: State, actions: jax.Array) -> tu
         static,
         contacts,
         manifold,
-        stack(impulses.contact_normal, contacts.normal_impulse),
-        stack(impulses.contact_tangent, contacts.tangent_impulse),
+        stack_values(impulses.contact_normal, contacts.normal_impulse),
+        stack_values(impulses.contact_tangent, contacts.tangent_impulse),
     )
     new_joints = state.joints.replace(
-        impulse=stack(impulses.joint_point, joints.impulse),
-        angular_impulse=stack(impulses.joint_angle, joints.angular_impulse),
-        lower_impulse=stack(impulses.joint_lower, joints.lower_impulse),
-        upper_impulse=stack(impulses.joint_upper, joints.upper_impulse),
+        impulse=stack_values(impulses.joint_point, joints.impulse),
+        angular_impulse=stack_values(impulses.joint_angle, joints.angular_impulse),
+        lower_impulse=stack_values(impulses.joint_lower, joints.lower_impulse),
+        upper_impulse=stack_values(impulses.joint_upper, joints.upper_impulse),
     )
 
     bodies = integrate_positions(params, bodies, v3, inv_mass, inv_inertia)
