@@ -34,7 +34,7 @@ format: $(STAMP)
 test: lint
 	$(BIN)/pytest -m "not slow" $(PYTEST_FLAGS)
 
-test-all: lint
+test-all: lint $(CMP_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)
 
 bench: $(CMP_STAMP)

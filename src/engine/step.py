@@ -87,7 +87,8 @@ def step(static: Static, params: Params, state: State, actions: jax.Array) -> tu
     manifold = collide(static, bodies, margins)
     table = pair_table(static)
     collidable = collidable_pairs(static, bodies, state.joints)[table.point_pair]
-    movable = (inv_mass3.sum(-1) > 0)[table.a[table.point_pair]] | (inv_mass3.sum(-1) > 0)[table.b[table.point_pair]]
+    body_movable = inv_mass3.sum(-1) > 0
+    movable = body_movable[table.a[table.point_pair]] | body_movable[table.b[table.point_pair]]
     contacts, dropped = prepare_contacts(
         static, params, bodies, inv_mass3, v3, manifold, manifold.valid & collidable & movable, state.contacts
     )

@@ -10,7 +10,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from engine import SIZES, Params, Scene, State, step
+from engine import SIZES, BodyRef, Params, Scene, State, step
 
 
 @dataclasses.dataclass(frozen=True)
@@ -24,15 +24,15 @@ class DemoFrame:
     speed: float
 
 
-def car_on_ramp() -> tuple[Scene, int]:
-    """A two-wheeled car (chassis + 2 motorised wheels) left of a fixed ramp. Returns (scene, chassis slot)."""
+def car_on_ramp() -> tuple[Scene, BodyRef]:
+    """A two-wheeled car (chassis + 2 motorised wheels) left of a fixed ramp. Returns (scene, chassis)."""
     scene = Scene()
     scene.add_polygon((3.6, 0.4), [(-1.0, 0.0), (1.0, 0.0), (1.0, 0.55)], fixed=True, name="ramp")
     chassis = scene.add_box((1.0, 0.85), size=(0.9, 0.2), density=1.0, role=1, name="chassis")
     for x in (0.65, 1.35):
         wheel = scene.add_circle((x, 0.62), radius=0.2, friction=1.0, name=f"wheel at x={x}")
         scene.add_revolute_joint(chassis, wheel, anchor=(x, 0.62), motor_speed=1.0, motor_power=2.0)
-    return scene, 5
+    return scene, chassis
 
 
 def run_demo(seconds: float = 4.0, report_every: float = 0.5) -> tuple[list[DemoFrame], float, float]:
@@ -42,7 +42,8 @@ def run_demo(seconds: float = 4.0, report_every: float = 0.5) -> tuple[list[Demo
     """
     static = SIZES["m"]
     params = Params()
-    scene, chassis = car_on_ramp()
+    scene, chassis_ref = car_on_ramp()
+    chassis = scene.slot(chassis_ref, static)
     state: State = scene.build(static)
     actions = jnp.array([-1.0, -1.0, 0.0, 0.0])
     every = max(1, round(report_every / params.dt))

@@ -121,7 +121,24 @@ def test_motor_drives_wheel_to_target_speed():
         actions = np.zeros(WORLD.num_actions)
         actions[0] = action
         _, traj = simulate(WORLD, scene.build(WORLD), 2.0, actions=actions)
-        assert abs(traj.angular_velocity[-1, slot(scene, wheel)] - target) < 0.05
+        spin = traj.angular_velocity[:, slot(scene, wheel)]
+        assert abs(spin[-1] - target) < 0.05
+        assert np.abs(spin).max() <= abs(target) + 1e-4  # never overshoots (the reference rings)
+
+
+def test_revolute_limits_hold_against_a_motor():
+    """A motor pushing an arm into its limits (+-0.5 rad) stops there within 0.03 rad, on either side."""
+    for action in (1.0, -1.0):
+        scene = Scene(gravity=(0.0, 0.0))
+        hub = scene.add_box((2.5, 2.5), size=(0.1, 0.1), fixed=True)
+        arm = scene.add_box((2.9, 2.5), size=(0.8, 0.1))
+        scene.add_revolute_joint(hub, arm, anchor=(2.5, 2.5), motor_speed=1.0, motor_power=1.0, limits=(-0.5, 0.5))
+        actions = np.zeros(WORLD.num_actions)
+        actions[0] = action
+        _, traj = simulate(WORLD, scene.build(WORLD), 2.0, actions=actions)
+        angle = traj.angle[:, slot(scene, arm)]
+        assert np.abs(angle).max() < 0.5 + 0.03
+        assert abs(angle[-1] - 0.5 * action) < 0.03
 
 
 def test_thruster_gives_force_over_mass():
@@ -140,6 +157,21 @@ def test_thruster_gives_force_over_mass():
     expected = accel * t[:, None] * np.array([math.cos(angle), math.sin(angle)])
     np.testing.assert_allclose(velocity, expected, rtol=1e-3, atol=1e-5)
     assert np.abs(traj.angular_velocity[:12, slot(scene, box)]).max() < 1e-4
+
+
+def test_off_centre_thruster_also_spins_its_body():
+    """A thruster 0.2 m right of the centre pushing up spins a box counter-clockwise: after one step
+    omega = (r x F) dt / I, within 1e-3 relative."""
+    scene = Scene(gravity=(0.0, 0.0))
+    box = scene.add_box((2.5, 2.5), size=(0.6, 0.2), density=1.0)
+    scene.add_thruster(box, anchor=(2.7, 2.5), angle=math.pi / 2, power=1.0)
+    actions = np.zeros(WORLD.num_actions)
+    actions[WORLD.num_joints] = 1.0
+    _, traj = simulate(WORLD, scene.build(WORLD), 1.0, actions=actions)
+    mass = 0.6 * 0.2
+    inertia = mass * (0.6**2 + 0.2**2) / 12
+    expected = 0.2 * 10.0 * DT / inertia
+    assert abs(traj.angular_velocity[0, slot(scene, box)] - expected) / expected < 1e-3
 
 
 def test_sliding_box_stops_at_friction_distance():
