@@ -63,27 +63,33 @@ class BenchResult:
     calls: int
 
 
+def time_calls(fn: Callable, carry: tuple, steps_per_call: int, min_time: float) -> tuple[float, float, int]:
+    """Compile `fn(*carry) -> carry` and call it repeatedly for at least `min_time` seconds (after a warm-up
+    call). Returns (compile seconds, median steps/s, timed calls)."""
+    start = time.perf_counter()
+    compiled = jax.jit(fn).lower(*carry).compile()
+    compile_s = time.perf_counter() - start
+    carry = jax.block_until_ready(compiled(*carry))
+    rates, spent = [], 0.0
+    while len(rates) < 2 or spent < min_time:
+        start = time.perf_counter()
+        carry = jax.block_until_ready(compiled(*carry))
+        elapsed = time.perf_counter() - start
+        spent += elapsed
+        rates.append(steps_per_call / elapsed)
+    return compile_s, statistics.median(rates), len(rates)
+
+
 def time_stepper(step_fn: Callable, states, actions, steps: int, min_time: float) -> tuple[float, float, int]:
-    """Compile and time `scan(vmap(step_fn))`. Returns (compile seconds, median steps/s, timed calls)."""
+    """Time `scan(vmap(step_fn))` over `steps` steps with fixed per-scene actions."""
 
     def rollout(states, actions):
         def body(s, _):
             return jax.vmap(step_fn)(s, actions), None
 
-        return jax.lax.scan(body, states, None, length=steps)[0]
+        return jax.lax.scan(body, states, None, length=steps)[0], actions
 
-    start = time.perf_counter()
-    compiled = jax.jit(rollout).lower(states, actions).compile()
-    compile_s = time.perf_counter() - start
-    states = jax.block_until_ready(compiled(states, actions))  # warm-up call
-    rates, spent = [], 0.0
-    while len(rates) < 2 or spent < min_time:
-        start = time.perf_counter()
-        states = jax.block_until_ready(compiled(states, actions))
-        elapsed = time.perf_counter() - start
-        spent += elapsed
-        rates.append(actions.shape[0] * steps / elapsed)
-    return compile_s, statistics.median(rates), len(rates)
+    return time_calls(rollout, (states, actions), actions.shape[0] * steps, min_time)
 
 
 def _ours(static: Static):
@@ -149,6 +155,106 @@ def bench_engine(
             results.append(result)
             report(result)
     return results
+
+
+@dataclasses.dataclass(frozen=True)
+class EnvBenchConfig:
+    """What to measure for `kinetix bench env`.
+
+    Attributes:
+        size: 's', 'm' or 'l'.
+        envs: batch sizes (environments stepped in parallel).
+        observations: observation types to measure.
+        steps: environment steps per timed call.
+        min_time: seconds of timed calls per measurement.
+        distinct_levels: random full levels in the reset pool (episodes restart from a random one).
+        seed: seed of the levels, bindings and actions.
+    """
+
+    size: str = "s"
+    envs: tuple[int, ...] = (64, 1024)
+    observations: tuple[str, ...] = ("symbolic-flat", "symbolic-entity", "pixels")
+    steps: int = 32
+    min_time: float = 2.0
+    distinct_levels: int = 128
+    seed: int = 0
+
+
+@dataclasses.dataclass
+class EnvBenchResult:
+    """One measurement: environment steps per second (frame skip, reward, observation, auto-reset and
+    random action sampling included)."""
+
+    observation: str
+    size: str
+    envs: int
+    compile_s: float
+    steps_per_s: float
+    calls: int
+
+
+def random_levels(static: Static, count: int, seed: int):
+    """`count` random full levels (see `engine.random_scenes`) with random bindings, batched."""
+    from kinetix_cli.level import Bindings, Level, stack_levels
+
+    rng = np.random.default_rng(seed)
+    levels = []
+    for i in range(count):
+        physics = random_scene(static, seed * 100_003 + i).build_numpy(static)
+        bindings = Bindings(
+            motor=rng.integers(0, 4, static.num_joints).astype(np.int32),
+            motor_auto=rng.uniform(size=static.num_joints) < 0.1,
+            thruster=rng.integers(0, 2, static.num_thrusters).astype(np.int32),
+        )
+        levels.append(Level(physics, bindings))
+    return stack_levels(levels)
+
+
+def bench_env(config: EnvBenchConfig, report: Callable[[EnvBenchResult], None] = lambda r: None):
+    """Measure every observation type and batch size; calls `report` after each measurement."""
+    from kinetix_cli.actions import sample_action
+    from kinetix_cli.env import OBSERVATION_TYPES, EnvConfig, EnvParams, KinetixEnv, reset_from_pool
+
+    if config.size not in SIZES:
+        raise UserError(f"--size: unknown size {config.size!r}; choose one of {', '.join(SIZES)}")
+    for kind in config.observations:
+        if kind not in OBSERVATION_TYPES:
+            raise UserError(f"--obs: unknown observation {kind!r}; choose from {', '.join(OBSERVATION_TYPES)}")
+    static = SIZES[config.size]
+    pool = random_levels(static, config.distinct_levels, config.seed)
+    params = EnvParams()
+    results = []
+    for kind in config.observations:
+        env = KinetixEnv(EnvConfig(static, observation=kind), reset_from_pool(pool))
+        for envs in config.envs:
+            keys = jax.random.split(jax.random.key(config.seed), envs)
+            _, states = jax.vmap(env.reset, in_axes=(0, None))(keys, params)
+
+            def env_step(carry, key, env=env):
+                k_act, k_step = jax.random.split(key)
+                action = sample_action(env.config.action, k_act)
+                return env.step(k_step, carry, action, params)[1]
+
+            keys = jax.random.split(jax.random.key(config.seed + 1), envs)
+            compile_s, rate, calls = time_keyed(env_step, states, keys, config.steps, config.min_time)
+            result = EnvBenchResult(kind, config.size, envs, compile_s, rate, calls)
+            results.append(result)
+            report(result)
+    return results
+
+
+def time_keyed(step_fn: Callable, states, keys, steps: int, min_time: float) -> tuple[float, float, int]:
+    """Time `scan(vmap(step_fn(state, key)))` with a fresh random key per scene and step."""
+
+    def rollout(states, keys):
+        def body(carry, _):
+            states, keys = carry
+            split = jax.vmap(jax.random.split)(keys)
+            return (jax.vmap(step_fn)(states, split[:, 0]), split[:, 1]), None
+
+        return jax.lax.scan(body, (states, keys), None, length=steps)[0]
+
+    return time_calls(rollout, (states, keys), keys.shape[0] * steps, min_time)
 
 
 def environment_info() -> dict:

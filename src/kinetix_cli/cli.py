@@ -71,6 +71,163 @@ def bench_engine_command(
         console.print(f"wrote {json_path}")
 
 
+@bench_app.command("env")
+def bench_env_command(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    envs: str = typer.Option("64,1024", help="Comma-separated batch sizes."),
+    obs: str = typer.Option("symbolic-flat,symbolic-entity,pixels", help="Observation types to measure."),
+    steps: int = typer.Option(32, min=1, help="Environment steps per timed call."),
+    min_time: float = typer.Option(2.0, min=0.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, help="Seed of the random levels and actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Environment steps per second (frame skip, reward, observation and auto-reset included)."""
+    import dataclasses
+
+    from kinetix_cli.bench import BENCH_FORMAT, EnvBenchConfig, bench_env, environment_info
+    from kinetix_cli.io import atomic_write_json
+
+    config = EnvBenchConfig(
+        size=size,
+        envs=_int_list("--envs", envs),
+        observations=tuple(x.strip() for x in obs.split(",") if x.strip()),
+        steps=steps,
+        min_time=min_time,
+        seed=seed,
+    )
+    table = Table("observation", "size", "envs", "compile [s]", "env steps/s")
+
+    def report(r):
+        console.print(
+            f"[dim]{r.observation:16s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:12,.0f} env steps/s[/dim]"
+        )
+        table.add_row(r.observation, r.size, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}")
+
+    results = bench_env(config, report)
+    console.print(table)
+    if json_path is not None:
+        payload = {
+            **environment_info(),
+            "config": dataclasses.asdict(config),
+            "results": [dataclasses.asdict(r) for r in results],
+        }
+        atomic_write_json(json_path, payload, BENCH_FORMAT)
+        console.print(f"wrote {json_path}")
+
+
+def _level_paths(paths: list[Path]) -> list[Path]:
+    """Expand folders into their *.json files (sorted); missing paths are an error."""
+    files: list[Path] = []
+    for path in paths:
+        if path.is_dir():
+            found = sorted(path.rglob("*.json"))
+            if not found:
+                raise UserError(f"{path}: no level files (*.json) in this folder")
+            files += found
+        elif path.exists():
+            files.append(path)
+        else:
+            raise UserError(f"{path}: no such file or folder")
+    return files
+
+
+@app.command()
+def validate(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    play: bool = typer.Option(
+        False,
+        "--play",
+        help="Also replay each solution, a no-op policy and 20 random policies (exit 1 if a "
+        "solution fails or the no-op solves).",
+    ),
+) -> None:
+    """Check level files; stop with exit code 2 at the first bad one."""
+    from kinetix_cli.level_file import load_level
+    from kinetix_cli.solve import check_level, decode_solution
+
+    files = _level_paths(paths)
+    problems = 0
+    for path in files:
+        spec = load_level(path)
+        if spec.solution is not None:
+            decode_solution(spec.solution, str(path), 256)
+        static = spec.default_static()
+        console.print(
+            f"[green]ok[/green] {path}  size {_size_name(static)}  {len(spec.scene.polygons)} polygons, "
+            f"{len(spec.scene.circles)} circles, {len(spec.scene.joints)} joints, "
+            f"{len(spec.scene.thrusters)} thrusters{', solution' if spec.solution else ''}",
+            highlight=False,
+        )
+        if play:
+            outcome = check_level(spec, attempts=20)
+            solution = outcome.get("solution")
+            lines = []
+            if solution is None:
+                lines.append("[yellow]no solution[/yellow]")
+            elif bool(solution.solved[0]):
+                lines.append(f"solution solves in {int(solution.length[0])} steps")
+            else:
+                lines.append("[red]solution does not solve[/red]")
+                problems += 1
+            if bool(outcome["noop"].solved[0]):
+                lines.append("[red]no-op solves[/red]")
+                problems += 1
+            else:
+                lines.append("no-op does not solve")
+            lines.append(f"random solves {int(outcome['random'].solved.sum())}/20")
+            console.print("    " + "; ".join(lines))
+    console.print(f"{len(files)} level file(s) valid")
+    if problems:
+        console.print(f"[red]{problems} problem(s) when playing the levels[/red]")
+        raise typer.Exit(1)
+
+
+def _size_name(static) -> str:
+    from engine import SIZES
+
+    return next((name for name, s in SIZES.items() if s == static), "custom")
+
+
+@app.command()
+def solve(
+    level: Path = typer.Argument(..., help="Level file."),
+    write: bool = typer.Option(False, "--write", help="Store the solution in the level file."),
+    population: int = typer.Option(256, min=8, help="Action sequences per iteration."),
+    iterations: int = typer.Option(20, min=1, help="Most CEM iterations."),
+    segments: int = typer.Option(16, min=1, max=256, help="Pieces of constant action per episode."),
+    seed: int = typer.Option(0, help="Random seed."),
+) -> None:
+    """Find an action sequence that solves a level (cross-entropy method on the batched environment)."""
+    import json
+
+    from kinetix_cli.io import atomic_write_text
+    from kinetix_cli.level_file import format_level_json, load_level
+    from kinetix_cli.solve import SolveConfig
+    from kinetix_cli.solve import solve as run_solve
+
+    spec = load_level(level)
+    config = SolveConfig(population=population, iterations=iterations, segments=segments, seed=seed)
+
+    def report(iteration: int, best: float, solved: float) -> None:
+        console.print(f"iteration {iteration:3d}: best fitness {best:8.2f}, solved {solved:6.1%} of the population")
+
+    result = run_solve(spec, config, report)
+    if result.solution is None:
+        console.print(f"[red]no robust solution[/red] after {result.episodes} episodes ({result.seconds:.0f} s)")
+        raise typer.Exit(1)
+    console.print(
+        f"[green]solved[/green] in {result.length} steps after {result.episodes} episodes ({result.seconds:.0f} s): "
+        f"{json.dumps(result.solution)}",
+        highlight=False,
+    )
+    if write:
+        data = json.loads(level.read_text())
+        data["solution"] = result.solution
+        atomic_write_text(level, format_level_json(data))
+        console.print(f"wrote the solution into {level}")
+
+
 @app.command()
 def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds.")) -> None:
     """A car drives up a ramp: build a scene, simulate it, print what happened."""
