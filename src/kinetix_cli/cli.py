@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -229,6 +230,50 @@ def solve(
 
 
 @app.command()
+def render(
+    level: Path = typer.Argument(..., help="Level file."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+    scale: float = typer.Option(120, min=10, max=1000, help="Pixels per metre."),
+) -> None:
+    """Draw a level as a PNG: roles, joints and motors by binding, thrusters."""
+    from kinetix_cli.level_file import load_level
+    from kinetix_cli.render import render_level, save_png
+
+    spec = load_level(level)
+    caption = spec.description or None
+    save_png(render_level(spec.build(), scale=scale, title=spec.name, caption=caption), out)
+    console.print(f"wrote {out}")
+
+
+@app.command()
+def rollout(
+    level: Path = typer.Argument(..., help="Level file."),
+    policy: str = typer.Option("solution", help="noop, random or solution (the level's stored actions)."),
+    out: Path = typer.Option(None, "-o", "--out", help="GIF file to write (omit to only print the outcome)."),
+    seed: int = typer.Option(0, help="Seed of the random policy."),
+    scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF."),
+) -> None:
+    """Play one episode of a level and print its return and whether it was solved; optionally as a GIF."""
+    from kinetix_cli.level_file import load_level
+    from kinetix_cli.rollout import POLICIES, episode_frames, record_episode
+
+    if policy not in POLICIES:
+        raise UserError(f"--policy: unknown policy {policy!r}; choose one of {', '.join(POLICIES)}")
+    spec = load_level(level)
+    episode = record_episode(spec, policy, seed)
+    ending = "[green]solved[/green]" if episode.solved else "[red]failed[/red]" if episode.failed else "timed out"
+    console.print(
+        f"{spec.name}: policy {policy}: {ending} after {episode.length} steps "
+        f"({episode.length * episode.step_seconds:.2f} s), return {episode.total_return:+.3f}"
+    )
+    if out is not None:
+        from kinetix_cli.render import save_gif
+
+        save_gif(episode_frames(spec, episode, scale=scale), out, fps=1.0 / episode.step_seconds)
+        console.print(f"wrote {out} ({episode.length + 1} frames)")
+
+
+@app.command()
 def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds.")) -> None:
     """A car drives up a ramp: build a scene, simulate it, print what happened."""
     from kinetix_cli.demo import run_demo
@@ -249,9 +294,14 @@ def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds."))
 
 
 def main() -> None:
-    """Entry point: run the app; user errors print one line and exit with code 2."""
+    """Entry point: run the app; user errors print one line and exit with code 2.
+
+    Compiled functions are cached on disk (`~/.cache/kinetix/jax`, or $JAX_COMPILATION_CACHE_DIR; set it
+    to an empty string to turn the cache off), so a second run of a command skips most of its compile time.
+    """
+    os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(Path.home() / ".cache" / "kinetix" / "jax"))
     try:
         app()
     except UserError as exc:
-        Console(stderr=True).print(f"[red]error:[/red] {exc}", highlight=False)
+        Console(stderr=True, soft_wrap=True).print(f"[red]error:[/red] {exc}", highlight=False)
         sys.exit(exc.exit_code)

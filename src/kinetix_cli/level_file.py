@@ -164,9 +164,9 @@ class _Parser:
         if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
             raise self.fail(entity, field, f"must be a finite number, got {json.dumps(value)}")
         if value < low or value > high or (strict_low and value == low):
-            bound = f"> {low}" if strict_low and high == math.inf else f"in [{low}, {high}]"
-            if high == math.inf and not strict_low:
-                bound = f">= {low}"
+            bound = f"in [{low:g}, {high:g}]"
+            if high == math.inf:
+                bound = f"> {low:g}" if strict_low else f">= {low:g}"
             raise self.fail(entity, field, f"must be {bound}, got {value}")
         return float(value)
 

@@ -10,19 +10,7 @@ import pytest
 
 from engine import SIZES
 from kinetix_cli.level_file import LevelError, format_level_json, load_level, parse_level
-
-CAR = {
-    "format": "kinetix-level/1",
-    "name": "car",
-    "size": "s",
-    "bodies": [
-        {"name": "chassis", "shape": "box", "size": [0.8, 0.2], "position": [1.0, 0.8], "role": "green"},
-        {"name": "wheel", "shape": "circle", "radius": 0.2, "position": [1.0, 0.6]},
-        {"name": "goal", "shape": "circle", "radius": 0.3, "position": [4.5, 0.7], "role": "blue", "fixed": True},
-    ],
-    "joints": [{"a": "chassis", "b": "wheel", "anchor": [1.0, 0.6], "motor": {"binding": 2, "speed": 0.5}}],
-    "thrusters": [{"body": "chassis", "direction_deg": 90, "power": 2.0, "binding": 1}],
-}
+from kinetix_cli_levels import CAR
 
 
 def edited(path: str, value):

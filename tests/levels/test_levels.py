@@ -1,0 +1,57 @@
+"""Every shipped level in levels/{s,m,l}: it loads, its solution solves it, and doing nothing does not.
+
+Levels of one size are replayed together in one batch (one compile per size).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from engine import SIZES
+from kinetix_cli.env import EnvConfig, EnvParams
+from kinetix_cli.level import stack_levels
+from kinetix_cli.level_file import load_level
+from kinetix_cli.solve import decode_solution, play
+
+LEVELS = Path(__file__).resolve().parents[2] / "levels"
+MINIMUM = {"s": 10, "m": 20, "l": 30}
+
+
+def level_files(size: str) -> list[Path]:
+    return sorted((LEVELS / size).glob("*.json"))
+
+
+@pytest.mark.parametrize("size", ["s", "m", "l"])
+def test_suite_is_complete_and_valid(size):
+    files = level_files(size)
+    assert len(files) >= MINIMUM[size], f"levels/{size} has {len(files)} levels, want >= {MINIMUM[size]}"
+    for path in files:
+        spec = load_level(path)
+        assert spec.size == size, f"{path}: declares size {spec.size}"
+        assert spec.description, f"{path}: needs a one-line description"
+        assert spec.solution is not None, f"{path}: ships no solution"
+
+
+@pytest.mark.parametrize("size", ["s", "m", "l"])
+def test_solutions_solve_and_noop_does_not(size):
+    specs = [load_level(path) for path in level_files(size)]
+    if not specs:
+        pytest.skip(f"no levels in levels/{size}")
+    for spec in specs:
+        assert not spec.params, f"{spec.path}: parameter overrides are not batched by this test"
+    static = SIZES[size]
+    horizon = int(EnvParams().max_steps)
+    levels = [spec.build(static) for spec in specs]
+    solutions = [decode_solution(spec.solution, spec.path, horizon) for spec in specs]
+    batch = stack_levels(levels + levels)
+    actions = np.stack(solutions + [np.zeros((horizon, 6), np.int32)] * len(specs))
+    outcome = play(EnvConfig(static), EnvParams(), batch, jnp.asarray(actions))
+    n = len(specs)
+    unsolved = [spec.path for spec, ok in zip(specs, outcome.solved[:n], strict=True) if not ok]
+    self_solving = [spec.path for spec, ok in zip(specs, outcome.solved[n:], strict=True) if ok]
+    assert not unsolved, f"solutions that do not solve their level: {unsolved}"
+    assert not self_solving, f"levels a no-op policy solves: {self_solving}"
