@@ -15,6 +15,8 @@ from kinetix_cli.errors import UserError
 app = typer.Typer(no_args_is_help=True, add_completion=False, help="kinetix: open-ended 2D physics RL in JAX.")
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
 app.add_typer(bench_app, name="bench")
+levels_app = typer.Typer(no_args_is_help=True, help="Folders of level files.")
+app.add_typer(levels_app, name="levels")
 console = Console()
 
 
@@ -182,6 +184,36 @@ def validate(
     if problems:
         console.print(f"[red]{problems} problem(s) when playing the levels[/red]")
         raise typer.Exit(1)
+
+
+@levels_app.command("list")
+def levels_list(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    markdown: bool = typer.Option(False, "--markdown", help="Print a Markdown table (for levels/README.md)."),
+) -> None:
+    """One row per level: file, size, entities, solution length and goal."""
+    from kinetix_cli.level_file import load_level
+
+    rows = []
+    for path in _level_paths(paths):
+        spec = load_level(path)
+        scene = spec.scene
+        entities = f"{len(scene.polygons)}/{len(scene.circles)}/{len(scene.joints)}/{len(scene.thrusters)}"
+        steps = "-"
+        if spec.solution is not None:
+            steps = str(sum(entry[1] for entry in spec.solution.get("actions", [])))
+        rows.append((str(path), _size_name(spec.default_static()), entities, steps, spec.description))
+    header = ("level", "size", "polygons/circles/joints/thrusters", "solution actions", "goal")
+    if markdown:
+        print("| " + " | ".join(header) + " |")
+        print("|" + "---|" * len(header))
+        for row in rows:
+            print("| " + " | ".join(row) + " |")
+        return
+    table = Table(*header)
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
 
 
 def _size_name(static) -> str:

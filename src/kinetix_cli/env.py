@@ -27,6 +27,8 @@ from engine import Params, State, Static
 from engine.pairs import pair_table
 from kinetix_cli.actions import ACTION_TYPES, action_space, binding_values, engine_actions
 from kinetix_cli.level import Bindings, Level
+from kinetix_cli.observations import symbolic_entity, symbolic_flat
+from kinetix_cli.pixels import pixel_observation
 
 OBSERVATION_TYPES = ("symbolic-flat", "symbolic-entity", "pixels")
 GREEN, BLUE, RED = 1, 2, 3
@@ -220,15 +222,9 @@ class KinetixEnv:
         """The configured observation of a state."""
         kind = self.config.observation
         if kind == "symbolic-flat":
-            from kinetix_cli.observations import symbolic_flat
-
             return symbolic_flat(self.static, state.physics, state.bindings)
         if kind == "symbolic-entity":
-            from kinetix_cli.observations import symbolic_entity
-
             return symbolic_entity(self.static, state.physics, state.bindings)
-        from kinetix_cli.pixels import pixel_observation
-
         return pixel_observation(self.static, state.physics, state.bindings)
 
 

@@ -25,9 +25,17 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from engine.config import NUM_ARENA_POLYGONS
+from kinetix_cli.colours import (
+    AUTO_MOTOR_COLOUR,
+    BACKGROUND,
+    FIXED_NEUTRAL,
+    FIXED_ROLE_SCALE,
+    MOTOR_COLOURS,
+    ROLE_COLOURS,
+    THRUSTER_COLOURS,
+    Colour,
+)
 from kinetix_cli.io import atomic_write
-
-Colour = tuple[int, int, int]
 
 VIEW_X = (-0.1, 5.1)
 """World x range shown [m]."""
@@ -38,18 +46,8 @@ ARENA_LEFT, ARENA_RIGHT, ARENA_TOP = 0.0, 5.0, 5.0
 SUPERSAMPLE = 3
 """World geometry is drawn this many times larger, then downscaled."""
 
-BACKGROUND: Colour = (255, 255, 255)
-ROLE_COLOURS: tuple[Colour, ...] = ((160, 160, 160), (0, 204, 0), (0, 102, 204), (255, 102, 102))
-"""Fill per role: 0 neutral, 1 green, 2 blue, 3 red."""
-FIXED_NEUTRAL: Colour = (80, 80, 80)
-"""Fill of a fixed neutral shape (and of a neutral floor); a fixed shape with a role gets role colour x 0.5."""
 WALL_FILL: Colour = (225, 225, 225)
 WALL_LINE: Colour = (50, 50, 50)
-MOTOR_COLOURS: tuple[Colour, ...] = ((150, 80, 210), (0, 175, 200), (150, 150, 0), (160, 95, 45))
-"""Ring colour of a motor per binding 0..3."""
-AUTO_MOTOR_COLOUR: Colour = (230, 0, 150)
-THRUSTER_COLOURS: tuple[Colour, ...] = ((255, 120, 0), (235, 195, 0))
-"""Nozzle colour of a thruster per binding 0..1."""
 FLAME_CORE: Colour = (255, 245, 170)
 HEADER_FILL: Colour = (244, 244, 244)
 TEXT: Colour = (20, 20, 20)
@@ -153,7 +151,7 @@ def body_fill(role: int, fixed: bool) -> Colour:
     """Fill colour of a shape: role colour; fixed neutral (80, 80, 80); fixed with a role: role colour x 0.5."""
     if not fixed:
         return ROLE_COLOURS[role]
-    return FIXED_NEUTRAL if role == 0 else _scaled(ROLE_COLOURS[role], 0.5)
+    return FIXED_NEUTRAL if role == 0 else _scaled(ROLE_COLOURS[role], FIXED_ROLE_SCALE)
 
 
 def _outline(fill: Colour) -> Colour:
