@@ -20,8 +20,13 @@ $(CMP_STAMP): $(STAMP)
 	$(BIN)/pip install -q -c constraints.txt -e ".[dev,compare]"
 	touch $@
 
+DEMO_LEVEL := levels/s/rocket-car-jump.json
+
 demo: $(STAMP)
 	$(BIN)/kinetix demo
+	$(BIN)/kinetix validate --play $(DEMO_LEVEL)
+	$(BIN)/kinetix render $(DEMO_LEVEL) -o demo-out/level.png
+	$(BIN)/kinetix rollout $(DEMO_LEVEL) --policy solution -o demo-out/rollout.gif
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests

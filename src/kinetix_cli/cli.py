@@ -17,7 +17,7 @@ bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and
 app.add_typer(bench_app, name="bench")
 levels_app = typer.Typer(no_args_is_help=True, help="Folders of level files.")
 app.add_typer(levels_app, name="levels")
-console = Console()
+console = Console(soft_wrap=True)  # text lines stay whole when piped; tables still fit the width
 
 
 def _int_list(flag: str, text: str) -> tuple[int, ...]:
@@ -41,8 +41,7 @@ def bench_engine_command(
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """Engine steps per second on random scenes filled to a size's capacity."""
-    from kinetix_cli.bench import BENCH_FORMAT, EngineBenchConfig, bench_engine, environment_info
-    from kinetix_cli.io import atomic_write_json
+    from kinetix_cli.bench import EngineBenchConfig, bench_engine
 
     config = EngineBenchConfig(
         size=size, envs=_int_list("--envs", envs), against=against, steps=steps, min_time=min_time, seed=seed
@@ -62,16 +61,7 @@ def bench_engine_command(
 
     results = bench_engine(config, report)
     console.print(table)
-    if json_path is not None:
-        import dataclasses
-
-        payload = {
-            **environment_info(),
-            "config": dataclasses.asdict(config),
-            "results": [dataclasses.asdict(r) for r in results],
-        }
-        atomic_write_json(json_path, payload, BENCH_FORMAT)
-        console.print(f"wrote {json_path}")
+    _write_bench_json(json_path, config, results)
 
 
 @bench_app.command("env")
@@ -85,10 +75,7 @@ def bench_env_command(
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """Environment steps per second (frame skip, reward, observation and auto-reset included)."""
-    import dataclasses
-
-    from kinetix_cli.bench import BENCH_FORMAT, EnvBenchConfig, bench_env, environment_info
-    from kinetix_cli.io import atomic_write_json
+    from kinetix_cli.bench import EnvBenchConfig, bench_env
 
     config = EnvBenchConfig(
         size=size,
@@ -109,14 +96,25 @@ def bench_env_command(
 
     results = bench_env(config, report)
     console.print(table)
-    if json_path is not None:
-        payload = {
-            **environment_info(),
-            "config": dataclasses.asdict(config),
-            "results": [dataclasses.asdict(r) for r in results],
-        }
-        atomic_write_json(json_path, payload, BENCH_FORMAT)
-        console.print(f"wrote {json_path}")
+    _write_bench_json(json_path, config, results)
+
+
+def _write_bench_json(json_path: Path | None, config, results) -> None:
+    """Write a benchmark's machine, versions, config and results (`kinetix-bench/1`) if a path was given."""
+    if json_path is None:
+        return
+    import dataclasses
+
+    from kinetix_cli.bench import BENCH_FORMAT, environment_info
+    from kinetix_cli.io import atomic_write_json
+
+    payload = {
+        **environment_info(),
+        "config": dataclasses.asdict(config),
+        "results": [dataclasses.asdict(r) for r in results],
+    }
+    atomic_write_json(json_path, payload, BENCH_FORMAT)
+    console.print(f"wrote {json_path}")
 
 
 def _level_paths(paths: list[Path]) -> list[Path]:

@@ -156,7 +156,9 @@ class KinetixEnv:
     def static(self) -> Static:
         return self.config.static
 
+    @property
     def default_params(self) -> EnvParams:
+        """`EnvParams()` (a property, as in gymnax)."""
         return EnvParams()
 
     # --- API ------------------------------------------------------------------------------------

@@ -438,6 +438,16 @@ def _draw_legend(
         x -= 2 * pad
 
 
+def _fit(draw: ImageDraw.ImageDraw, text, font, width: float) -> str:
+    """`text` (None -> ""), cut short with "..." where it is wider than `width` [px]."""
+    text = str(text or "")
+    if draw.textlength(text, font=font) <= width:
+        return text
+    while text and draw.textlength(text + "...", font=font) > width:
+        text = text[:-1]
+    return text.rstrip() + "..."
+
+
 def _draw_header(image: Image.Image, scale: float, title, caption, entries: list[tuple[str, Colour]]) -> None:
     """The header strip: title (line 1) and caption (line 2) on the left; the binding legend on the right of
     the first line it fits beside (left out when it fits neither: the scene labels still name the bindings)."""
@@ -447,7 +457,8 @@ def _draw_header(image: Image.Image, scale: float, title, caption, entries: list
     draw = ImageDraw.Draw(image)
     draw.rectangle((0, 0, image.width, height - 1), fill=HEADER_FILL)
     draw.line((0, height - 1, image.width, height - 1), fill=(190, 190, 190))
-    lines = ((str(title or ""), TEXT), (str(caption or ""), (70, 70, 70)))
+    room = image.width - 4 * pad
+    lines = ((_fit(draw, title, _font(size), room), TEXT), (_fit(draw, caption, _font(size), room), (70, 70, 70)))
     tops = [pad + k * (size + pad) for k in range(len(lines))]
     for (text, colour), top in zip(lines, tops, strict=True):
         if text:

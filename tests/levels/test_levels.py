@@ -55,3 +55,10 @@ def test_solutions_solve_and_noop_does_not(size):
     self_solving = [spec.path for spec, ok in zip(specs, outcome.solved[n:], strict=True) if ok]
     assert not unsolved, f"solutions that do not solve their level: {unsolved}"
     assert not self_solving, f"levels a no-op policy solves: {self_solving}"
+
+
+def test_readme_lists_every_level():
+    readme = (LEVELS / "README.md").read_text()
+    missing = [f"{size}/{path.name}" for size in MINIMUM for path in level_files(size)]
+    missing = [name for name in missing if name not in readme]
+    assert not missing, f"levels/README.md does not list {missing} (see its first lines to regenerate the table)"
