@@ -18,6 +18,7 @@ from collections.abc import Callable
 from importlib import metadata
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 from engine import SIZES, Params, Static, step
@@ -228,33 +229,38 @@ def bench_env(config: EnvBenchConfig, report: Callable[[EnvBenchResult], None] =
         env = KinetixEnv(EnvConfig(static, observation=kind), reset_from_pool(pool))
         for envs in config.envs:
             keys = jax.random.split(jax.random.key(config.seed), envs)
-            _, states = jax.vmap(env.reset, in_axes=(0, None))(keys, params)
+            obs, states = jax.vmap(env.reset, in_axes=(0, None))(keys, params)
 
             def env_step(carry, key, env=env):
+                # The latest observation and the summed reward ride in the carry, as a rollout would keep
+                # them; a step whose outputs were dropped would let XLA skip computing them.
+                state, _, returns = carry
                 k_act, k_step = jax.random.split(key)
                 action = sample_action(env.config.action, k_act)
-                return env.step(k_step, carry, action, params)[1]
+                obs, state, reward, _, _ = env.step(k_step, state, action, params)
+                return state, obs, returns + reward
 
             keys = jax.random.split(jax.random.key(config.seed + 1), envs)
-            compile_s, rate, calls = time_keyed(env_step, states, keys, config.steps, config.min_time)
+            carry = (states, obs, jnp.zeros(envs, jnp.float32))
+            compile_s, rate, calls = time_keyed(env_step, carry, keys, config.steps, config.min_time)
             result = EnvBenchResult(kind, config.size, envs, compile_s, rate, calls)
             results.append(result)
             report(result)
     return results
 
 
-def time_keyed(step_fn: Callable, states, keys, steps: int, min_time: float) -> tuple[float, float, int]:
-    """Time `scan(vmap(step_fn(state, key)))` with a fresh random key per scene and step."""
+def time_keyed(step_fn: Callable, carry, keys, steps: int, min_time: float) -> tuple[float, float, int]:
+    """Time `scan(vmap(step_fn(carry, key)))` with a fresh random key per scene and step; `carry` is batched."""
 
-    def rollout(states, keys):
-        def body(carry, _):
-            states, keys = carry
+    def rollout(carry, keys):
+        def body(both, _):
+            carry, keys = both
             split = jax.vmap(jax.random.split)(keys)
-            return (jax.vmap(step_fn)(states, split[:, 0]), split[:, 1]), None
+            return (jax.vmap(step_fn)(carry, split[:, 0]), split[:, 1]), None
 
-        return jax.lax.scan(body, (states, keys), None, length=steps)[0]
+        return jax.lax.scan(body, (carry, keys), None, length=steps)[0]
 
-    return time_calls(rollout, (states, keys), keys.shape[0] * steps, min_time)
+    return time_calls(rollout, (carry, keys), keys.shape[0] * steps, min_time)
 
 
 def environment_info() -> dict:

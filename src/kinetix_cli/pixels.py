@@ -113,18 +113,25 @@ def _layers(static: Static, physics, bindings: Bindings):
 def pixel_observation(static: Static, physics, bindings: Bindings) -> jax.Array:
     """(125, 125, 3) float32 RGB in [0, 1] of one scene (layout and colours in the module docstring).
 
-    One elementwise pass over (pixel rows, pixel columns, layers) reduced to the topmost covering layer, then a
-    colour lookup: cost ~ H * W * L * 13 flops with L = N + J + T; jittable, vmappable.
+    A scan over the L = N + J + T layers paints each layer's index onto an (H, W) image (~13 flops per pixel
+    and layer); one palette lookup then gives the colours. Jittable, vmappable. (Measured in `kinetix bench env`
+    on CPU, this runs 1-7x faster than one pass over an (H, W, L) array or painting RGB layer by layer.)
     """
-    normals, offsets, centres, radius2, active, colours = _layers(static, physics, bindings)
     xs, ys = pixel_centres()
-    x, y = xs[None, :, None], ys[:, None, None]  # broadcast over (H, W, L)
-    inside = active
-    for e in range(4):  # unrolled so the whole test stays one elementwise expression
-        inside = inside & (normals[:, e, 0] * x + normals[:, e, 1] * y <= offsets[:, e])
-    dx, dy = x - centres[:, 0], y - centres[:, 1]
-    inside = inside & (dx * dx + dy * dy <= radius2)
-    layer = jnp.arange(1, colours.shape[0] + 1, dtype=jnp.int32)
-    top = jnp.max(jnp.where(inside, layer, 0), axis=-1)  # (H, W): 0 = background, else 1 + layer index
+    x, y = xs[None, :], ys[:, None]  # broadcast over (H, W)
+
+    def paint(top, layer):
+        index, normal, offset, centre, r2, on = layer
+        inside = on
+        for e in range(4):
+            inside = inside & (normal[e, 0] * x + normal[e, 1] * y <= offset[e])
+        dx, dy = x - centre[0], y - centre[1]
+        inside = inside & (dx * dx + dy * dy <= r2)
+        return jnp.where(inside, index, top), None
+
+    normals, offsets, centres, radius2, active, colours = _layers(static, physics, bindings)
+    indices = jnp.arange(1, colours.shape[0] + 1, dtype=jnp.int32)
+    top = jnp.zeros((RESOLUTION, RESOLUTION), jnp.int32)  # 0 = background, else 1 + layer index
+    top, _ = jax.lax.scan(paint, top, (indices, normals, offsets, centres, radius2, active))
     palette = jnp.concatenate([_rgb(BACKGROUND), colours])
-    return palette[top].astype(jnp.float32)
+    return palette[top]
