@@ -168,12 +168,14 @@ class Scene:
         w, h = (float(x) / 2 for x in size)
         return self.add_polygon(position, [(-w, -h), (w, -h), (w, h), (-w, h)], angle, name, **material)
 
-    def add_circle(self, position, radius: float, name: str | None = None, **material) -> BodyRef:
-        """Add a circle of `radius` [m] centred at `position`."""
+    def add_circle(self, position, radius: float, name: str | None = None, angle: float = 0.0, **material) -> BodyRef:
+        """Add a circle of `radius` [m] centred at `position`, turned by `angle` [rad] (it matters for
+        joint and thruster anchors given in the body frame, and for the drawn spoke)."""
         body = Body(
             name=name or f"circle {len(self.circles)}",
             kind="circle",
             position=tuple(position),
+            angle=angle,
             radius=radius,
             **material,
         )

@@ -15,7 +15,7 @@ from kinetix_cli.errors import UserError
 app = typer.Typer(no_args_is_help=True, add_completion=False, help="kinetix: open-ended 2D physics RL in JAX.")
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
 app.add_typer(bench_app, name="bench")
-levels_app = typer.Typer(no_args_is_help=True, help="Folders of level files.")
+levels_app = typer.Typer(no_args_is_help=True, help="Level files and generated level sets.")
 app.add_typer(levels_app, name="levels")
 console = Console(soft_wrap=True)  # text lines stay whole when piped; tables still fit the width
 
@@ -212,6 +212,155 @@ def levels_list(
     for row in rows:
         table.add_row(*row)
     console.print(table)
+
+
+@app.command()
+def generate(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    count: int = typer.Option(..., min=1, help="Distinct levels to keep."),
+    seed: int = typer.Option(0, help="Seed; the same command gives byte-identical files."),
+    out: Path = typer.Option(..., "--out", help="Level-set folder (created; an unfinished one is resumed)."),
+    filters: str = typer.Option("noop,random", "--filter", help="Drop levels solved by: noop, random, both or none."),
+    random_attempts: int = typer.Option(3, min=1, help="Random-policy episodes per level (random filter)."),
+    random_max_rate: float = typer.Option(0.5, help="Drop levels random play solves more often than this."),
+    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
+    shard_size: int = typer.Option(4096, min=1, help="Levels per shard file."),
+) -> None:
+    """Sample levels, drop trivial ones, and write a level set (manifest + shards), resumably."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from kinetix_cli.generate import FilterConfig, generate_chunk, make_config, parse_filters
+    from kinetix_cli.levelset import generate_levelset
+
+    noop, random = parse_filters(filters)
+    filter_config = FilterConfig(noop, random_attempts if random else 0, random_max_rate)
+    config = make_config(size, chunk, filter_config)
+    columns = (TextColumn("generating"), BarColumn(), MofNCompleteColumn(), TextColumn("{task.fields[info]}"))
+    with Progress(*columns, TimeElapsedColumn(), console=console) as bar:
+        task = bar.add_task("generate", total=count, info="compiling the sampler and filters...")
+        clock = {"start": None, "kept": 0, "idle": 0}
+
+        def report(kept: int, stats: dict) -> None:
+            import time
+
+            now = time.perf_counter()
+            if clock["start"] is None:  # the first chunk includes compilation
+                clock.update(start=now, kept=kept)
+            rate = (kept - clock["kept"]) / max(now - clock["start"], 1e-9)
+            sampled = max(stats.get("sampled", 0), 1)
+            info = f"{rate:,.0f} kept levels/s, kept {kept / sampled:.0%} of {sampled:,} sampled"
+            bar.update(task, completed=kept, info=info if rate else "first chunk done")
+            clock["idle"] = 0 if kept > clock.get("last", -1) else clock["idle"] + 1
+            clock["last"] = kept
+            if clock["idle"] >= 50:
+                raise UserError(f"--filter: 50 chunks in a row kept no new level ({stats}); loosen the filters")
+
+        manifest = generate_levelset(
+            out,
+            size=size,
+            count=count,
+            seed=seed,
+            settings=config.settings(),
+            chunk_fn=lambda i: generate_chunk(config, seed, i),
+            shard_size=shard_size,
+            progress=report,
+        )
+    stats = ", ".join(f"{k} {v:,}" for k, v in manifest["stats"].items())
+    console.print(f"wrote {out}: {manifest['count']:,} {size} levels in {len(manifest['shards'])} shard(s); {stats}")
+
+
+@levels_app.command("info")
+def levels_info(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
+) -> None:
+    """A level set's settings, filter statistics and entity counts."""
+    import json
+
+    from kinetix_cli.levelset import load_levelset
+    from kinetix_cli.levelset_stats import level_statistics
+
+    levelset = load_levelset(path)
+    manifest = levelset.manifest
+    info = {
+        "path": str(path),
+        "format": manifest.get("format"),
+        "size": manifest["size"],
+        "count": manifest["count"],
+        "seed": manifest["seed"],
+        "version": manifest.get("version"),
+        "generation": manifest["stats"],
+        "settings": manifest["settings"],
+        "statistics": level_statistics(manifest["size"], levelset.levels),
+    }
+    if json_out:
+        print(json.dumps(info, indent=2))
+        return
+    console.print(f"[bold]{path}[/bold]: {info['count']:,} size-{info['size']} levels, seed {info['seed']}")
+    console.print("generation: " + ", ".join(f"{k} {v:,}" for k, v in info["generation"].items()))
+    stats = info["statistics"]
+    table = Table("per level", "mean", "min", "max")
+    for name, row in stats["per level"].items():
+        table.add_row(name, f"{row['mean']:.2f}", str(row["min"]), str(row["max"]))
+    console.print(table)
+    floor = ", ".join(f"{k} {v:,}" for k, v in stats["floor role"].items())
+    console.print(
+        f"levels with a motor {stats['levels with a motor']:,}, with a thruster {stats['levels with a thruster']:,}, "
+        f"with red {stats['levels with red']:,}; floor role: {floor}"
+    )
+
+
+@levels_app.command("show")
+def levels_show(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    index: int = typer.Option(0, help="The level to draw (with --grid: the first one)."),
+    grid: int = typer.Option(0, min=0, help="Draw this many levels from --index on as a contact sheet."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+) -> None:
+    """Render one level of a set, or a contact sheet of several."""
+    import math
+
+    from kinetix_cli.contact_sheet import contact_sheet
+    from kinetix_cli.levelset import level_at, load_levelset
+    from kinetix_cli.render import render_level, save_png
+
+    levelset = load_levelset(path)
+    if grid:
+        last = min(index + grid, levelset.manifest["count"])
+        levels = [(level_at(levelset, i), f"level {i}") for i in range(index, max(last, index + 1))]
+        image = contact_sheet(levels, columns=math.ceil(math.sqrt(len(levels))))
+    else:
+        image = render_level(level_at(levelset, index), title=f"{path.name} level {index}")
+    save_png(image, out)
+    console.print(f"wrote {out}")
+
+
+@levels_app.command("export")
+def levels_export(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    index: int = typer.Option(..., help="The level to export."),
+    out: Path = typer.Option(..., "-o", "--out", help="Level file (JSON) to write."),
+) -> None:
+    """Write one level of a set as a level file (kinetix-level/1) that validate, render and rollout read."""
+    from engine import SIZES
+    from kinetix_cli.io import atomic_write_text
+    from kinetix_cli.level_export import export_level
+    from kinetix_cli.level_file import format_level_json
+    from kinetix_cli.levelset import level_at, load_levelset
+
+    levelset = load_levelset(path)
+    size = levelset.manifest["size"]
+    try:
+        data = export_level(
+            level_at(levelset, index),
+            SIZES[size],
+            name=f"{path.name} {index}",
+            description=f"Generated level {index} of {path} (seed {levelset.manifest['seed']}): make green touch blue",
+        )
+    except ValueError as exc:
+        raise UserError(f"{path}: level {index} cannot be written as a level file: {exc}") from None
+    atomic_write_text(out, format_level_json(data))
+    console.print(f"wrote {out}")
 
 
 def _size_name(static) -> str:

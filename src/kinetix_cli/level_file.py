@@ -294,7 +294,7 @@ class _Parser:
             ref = scene.add_polygon(position, points, angle, name=name, **material)
         else:
             radius = self.number(entity, "radius", body["radius"], 0.0, strict_low=True)
-            ref = scene.add_circle(position, radius, name=name, **material)
+            ref = scene.add_circle(position, radius, name=name, angle=angle, **material)
         refs[name] = ref
 
     def body_ref(self, refs: dict, entity: str, field: str, value: Any) -> BodyRef:
