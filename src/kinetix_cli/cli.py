@@ -99,6 +99,35 @@ def bench_env_command(
     _write_bench_json(json_path, config, results)
 
 
+@bench_app.command("generate")
+def bench_generate_command(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
+    min_time: float = typer.Option(10.0, min=0.0, help="Seconds of timed chunks after compilation."),
+    seed: int = typer.Option(0, help="Generation seed."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the result to this JSON file."),
+) -> None:
+    """Kept levels per second with the default filters, and compile times."""
+    from kinetix_cli.bench import GenerateBenchConfig, bench_generate
+    from kinetix_cli.generate import make_config
+
+    make_config(size, chunk)  # checks the flags before anything compiles
+    config = GenerateBenchConfig(size=size, chunk=chunk, min_time=min_time, seed=seed)
+    r = bench_generate(config)
+    table = Table("size", "chunk", "sampler compile [s]", "compile [s]", "sampled/s", "kept/s", "kept")
+    table.add_row(
+        r.size,
+        str(r.chunk),
+        f"{r.sampler_compile_s:.1f}",
+        f"{r.compile_s:.1f}",
+        f"{r.sampled_per_s:,.0f}",
+        f"{r.kept_per_s:,.0f}",
+        f"{r.kept_fraction:.0%}",
+    )
+    console.print(table)
+    _write_bench_json(json_path, config, [r])
+
+
 def _write_bench_json(json_path: Path | None, config, results) -> None:
     """Write a benchmark's machine, versions, config and results (`kinetix-bench/1`) if a path was given."""
     if json_path is None:
