@@ -27,6 +27,8 @@ demo: $(STAMP)
 	$(BIN)/kinetix validate --play $(DEMO_LEVEL)
 	$(BIN)/kinetix render $(DEMO_LEVEL) -o demo-out/level.png
 	$(BIN)/kinetix rollout $(DEMO_LEVEL) --policy solution -o demo-out/rollout.gif
+	$(BIN)/kinetix generate --size s --count 256 --seed 0 --out demo-out/levels-s
+	$(BIN)/kinetix levels show demo-out/levels-s --grid 16 -o demo-out/levels-s.png
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests
