@@ -1,0 +1,550 @@
+"""Typed experiment config: frozen dataclasses, loaded from YAML files in `experiments/`, overridden from the CLI.
+
+An experiment file has one mapping per section (`env`, `model`, `ppo`, `run`, `levels`); every field has a default
+except `ppo.total_timesteps`. `load_config(path, ["ppo.lr=3e-4"])` reads a file, applies `--set` overrides and
+returns a validated `ExperimentConfig`; `save_config` writes the resolved config (every field, with a
+`format: kinetix-experiment/1` line) that `load_config` reads back to an equal config.
+
+Every mistake is a `ConfigError` (a `UserError`: one line, the CLI exits 2) naming the file or `--set`, the dotted
+key and what was expected:
+
+    experiments/x.yaml: unknown key 'ppo.learning_rate'; did you mean 'ppo.lr'?
+    experiments/x.yaml: ppo.lr: expected a number, got 'fast' (str)
+
+Numbers may be written `5e-5` or `1e6` (PyYAML alone reads those as strings); an integral float such as `5e9` is
+accepted for an integer field. Deliberately free of jax imports: loading a config is instant.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import os
+import re
+import types
+import typing
+from pathlib import Path
+from typing import Any, Literal, Union
+
+import yaml
+
+from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write_text
+
+CONFIG_FORMAT = "kinetix-experiment/1"
+CONFIG_FILENAME = "config.yaml"  # the resolved config saved in every run directory
+
+# The choices of the string fields. `env.OBSERVATION_TYPES`, `actions.ACTION_TYPES` and `engine.SIZES` hold the
+# same names (a test checks); they are repeated here so that this module does not import jax.
+Size = Literal["s", "m", "l"]
+Observation = Literal["symbolic-entity", "symbolic-flat", "pixels"]
+ActionKind = Literal["multi-discrete", "discrete", "continuous"]
+ModelName = Literal["transformer", "pi-mlp", "flat-mlp"]
+WandbMode = Literal["off", "offline", "online"]
+LevelSource = Literal["generated", "levelset", "files"]
+
+
+class ConfigError(UserError):
+    """A bad experiment config: the message names the file (or `--set`), the dotted key and what was expected."""
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class EnvSettings:
+    """The environment every training env runs.
+
+    Attributes:
+        size: entity capacities 's', 'm' or 'l' (polygons/circles/joints/thrusters 5/2/1/1, 6/3/2/2, 12/4/6/2).
+            Levels smaller than the size are padded up; a level too big for it is an error.
+        observation: 'symbolic-entity' (per-entity features and attention masks; for 'transformer' and 'pi-mlp'),
+            'symbolic-flat' (one vector) or 'pixels' (125 x 125 RGB + gravity).
+        action: 'multi-discrete' (per binding: motor off/+1/-1, thruster off/on), 'discrete' (11 choices, one
+            actuator at a time) or 'continuous' (6 values).
+        dense_reward_scale: weight of the shaping term -(d_t - d_{t-1}) added to the reward, with d the summed
+            green-blue centre distance [reward per metre]; 0 turns shaping off. (The reference configs use 0.2.)
+        frame_skip: engine steps (dt = 1/60 s each) per environment step; the action is held for all of them.
+        max_steps: episode cap [environment steps]; 256 at frame_skip 2 is ~8.5 s. Timeouts count as terminal.
+    """
+
+    size: Size = "m"
+    observation: Observation = "symbolic-entity"
+    action: ActionKind = "multi-discrete"
+    dense_reward_scale: float = 0.1
+    frame_skip: int = 2
+    max_steps: int = 256
+
+    def __post_init__(self):
+        _check_types(self)
+        _require(self, "dense_reward_scale", self.dense_reward_scale >= 0, "must be >= 0")
+        _require(self, "frame_skip", self.frame_skip >= 1, "must be >= 1")
+        _require(self, "max_steps", self.max_steps >= 1, "must be >= 1")
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class ModelSettings:
+    """The actor-critic network.
+
+    Attributes:
+        name: 'transformer' (entity transformer, size-independent, needs env.observation 'symbolic-entity'),
+            'pi-mlp' (permutation-invariant MLP over entities, also 'symbolic-entity') or 'flat-mlp' (an MLP on
+            'symbolic-flat', or on the flattened 'pixels').
+        width: hidden width of the entity encoders, transformer embedding and actor/critic layers [units].
+        actor_critic_layers: hidden layers (tanh) in each of the actor and critic heads.
+        transformer_layers: transformer blocks ('transformer' only).
+        heads: attention heads per block ('transformer' only); the head size is width / heads (128 / 8 = 16).
+    """
+
+    name: ModelName = "transformer"
+    width: int = 128
+    actor_critic_layers: int = 5
+    transformer_layers: int = 2
+    heads: int = 8
+
+    def __post_init__(self):
+        _check_types(self)
+        for name in ("width", "actor_critic_layers", "transformer_layers", "heads"):
+            _require(self, name, getattr(self, name) >= 1, "must be >= 1")
+        if self.name == "transformer":
+            _require(self, "heads", self.width % self.heads == 0, f"width {self.width} is not divisible by heads")
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class PPOSettings:
+    """PPO (PureJaxRL style). Defaults are the reference's.
+
+    Attributes:
+        num_envs: environments stepped in parallel.
+        num_steps: environment steps per env per rollout; one update consumes num_envs * num_steps transitions.
+        update_epochs: passes over each rollout.
+        num_minibatches: minibatches per epoch; must divide num_envs * num_steps.
+        gamma: discount per environment step.
+        gae_lambda: GAE lambda.
+        clip_eps: PPO ratio clip (also clips the value update).
+        ent_coef: weight of the entropy bonus in the loss.
+        vf_coef: weight of the value loss.
+        lr: Adam learning rate (the start value when anneal_lr).
+        adam_eps: Adam epsilon.
+        max_grad_norm: global gradient-norm clip.
+        anneal_lr: decay lr linearly to 0 over the run; false keeps it constant (the reference).
+        total_timesteps: environment steps of the whole run, over all envs (required); the run does
+            total_timesteps // (num_envs * num_steps) updates.
+        normalise_advantages: normalise advantages per minibatch (zero mean, unit std).
+    """
+
+    num_envs: int = 2048
+    num_steps: int = 64
+    update_epochs: int = 8
+    num_minibatches: int = 32
+    gamma: float = 0.995
+    gae_lambda: float = 0.9
+    clip_eps: float = 0.2
+    ent_coef: float = 0.01
+    vf_coef: float = 0.5
+    lr: float = 5e-5
+    adam_eps: float = 1e-5
+    max_grad_norm: float = 1.0
+    anneal_lr: bool = False
+    total_timesteps: int
+    normalise_advantages: bool = True
+
+    def __post_init__(self):
+        _check_types(self)
+        for name in ("num_envs", "num_steps", "update_epochs", "num_minibatches"):
+            _require(self, name, getattr(self, name) >= 1, "must be >= 1")
+        for name in ("gamma", "gae_lambda"):
+            _require(self, name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
+        for name in ("clip_eps", "lr", "adam_eps", "max_grad_norm"):
+            _require(self, name, getattr(self, name) > 0, "must be > 0")
+        for name in ("ent_coef", "vf_coef"):
+            _require(self, name, getattr(self, name) >= 0, "must be >= 0")
+        batch = f"num_envs * num_steps = {self.num_envs} * {self.num_steps} = {self.batch_size}"
+        _require(
+            self, "num_minibatches", self.batch_size % self.num_minibatches == 0, f"{batch} is not divisible by it"
+        )
+        _require(self, "total_timesteps", self.total_timesteps >= self.batch_size, f"is less than one update ({batch})")
+
+    @property
+    def batch_size(self) -> int:
+        """Transitions per update: num_envs * num_steps."""
+        return self.num_envs * self.num_steps
+
+    @property
+    def minibatch_size(self) -> int:
+        """Transitions per minibatch."""
+        return self.batch_size // self.num_minibatches
+
+    @property
+    def num_updates(self) -> int:
+        """Updates in the run: total_timesteps // batch_size."""
+        return self.total_timesteps // self.batch_size
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class RunSettings:
+    """Bookkeeping of one run.
+
+    Attributes:
+        seed: PRNG seed of the whole run (levels, policy sampling, initial parameters).
+        checkpoint_every: save a checkpoint every this many updates [updates]; 0 saves only at the end.
+        eval_every: evaluate every this many updates [updates]; 0 never evaluates during training.
+        eval_attempts: stochastic attempts per evaluation level (solve rate = share solved on the first episode).
+        wandb: Weights & Biases logging: 'off' (default), 'offline' (local files to sync later) or 'online'.
+        init_from: checkpoint to load the initial parameters from (fine-tuning), or null to start from scratch.
+    """
+
+    seed: int = 0
+    checkpoint_every: int = 100
+    eval_every: int = 100
+    eval_attempts: int = 20
+    wandb: WandbMode = "off"
+    init_from: str | None = None
+
+    def __post_init__(self):
+        _check_types(self)
+        _require(self, "checkpoint_every", self.checkpoint_every >= 0, "must be >= 0 (0: only at the end)")
+        _require(self, "eval_every", self.eval_every >= 0, "must be >= 0 (0: never)")
+        _require(self, "eval_attempts", self.eval_attempts >= 1, "must be >= 1")
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class LevelSettings:
+    """Where the training levels come from. Paths are relative to the working directory.
+
+    Attributes:
+        source: 'generated' (random levels from the sampler, held in a pool on the device), 'levelset'
+            (a level set directory written by `kinetix generate`) or 'files' (level files, e.g. for fine-tuning).
+        levelset: the level set directory (source 'levelset' only), else null.
+        files: level files (`kinetix-level/1` JSON) to train on (source 'files' only), else empty.
+        pool_size: generated levels held on the device (source 'generated'); episodes reset to a random pool
+            level and the pool is refilled from the sampler in batches, rather than sampling a level per step.
+    """
+
+    source: LevelSource = "generated"
+    levelset: str | None = None
+    files: tuple[str, ...] = ()
+    pool_size: int = 4096
+
+    def __post_init__(self):
+        _check_types(self)
+        _require(self, "pool_size", self.pool_size >= 1, "must be >= 1")
+        if self.source == "levelset":
+            _require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
+        else:
+            _require(self, "levelset", self.levelset is None, "is only used when levels.source is 'levelset'")
+        if self.source == "files":
+            _require(
+                self, "files", len(self.files) > 0, "must list at least one level file when levels.source is 'files'"
+            )
+        else:
+            _require(self, "files", not self.files, "is only used when levels.source is 'files'")
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class ExperimentConfig:
+    """A whole experiment: one field per YAML section.
+
+    Attributes:
+        env: the environment (`EnvSettings`).
+        model: the network (`ModelSettings`).
+        ppo: the PPO hyperparameters and budget (`PPOSettings`).
+        run: seed, checkpoints, evaluation and logging (`RunSettings`).
+        levels: the training levels (`LevelSettings`).
+    """
+
+    env: EnvSettings = dataclasses.field(default_factory=EnvSettings)
+    model: ModelSettings = dataclasses.field(default_factory=ModelSettings)
+    ppo: PPOSettings
+    run: RunSettings = dataclasses.field(default_factory=RunSettings)
+    levels: LevelSettings = dataclasses.field(default_factory=LevelSettings)
+
+    def __post_init__(self):
+        _check_types(self)
+        needs = {"transformer": ("symbolic-entity",), "pi-mlp": ("symbolic-entity",)}
+        allowed = needs.get(self.model.name, ("symbolic-flat", "pixels"))
+        if self.env.observation not in allowed:
+            raise ConfigError(
+                f"model.name: {self.model.name!r} needs env.observation {' or '.join(map(repr, allowed))}, "
+                f"got {self.env.observation!r}"
+            )
+
+
+SECTIONS: dict[str, type] = {
+    "env": EnvSettings,
+    "model": ModelSettings,
+    "ppo": PPOSettings,
+    "run": RunSettings,
+    "levels": LevelSettings,
+}
+_SECTION_OF = {cls: name for name, cls in SECTIONS.items()}
+
+
+# ----------------------------------------------------------------------------------------------------- loading
+
+
+def load_config(path: str | os.PathLike, overrides: list[str] | tuple[str, ...] = ()) -> ExperimentConfig:
+    """Read an experiment YAML file, apply `--set` overrides ("ppo.lr=3e-4"; the value is parsed as YAML, so
+    numbers, booleans, null and lists work) and return the validated config. Raises `ConfigError`."""
+    source = str(path)
+    raw = _read_yaml(Path(path))
+    if not isinstance(raw, dict):
+        raise ConfigError(f"{source}: expected a mapping of sections ({', '.join(SECTIONS)}), got {_show(raw)}")
+    fmt = raw.pop("format", CONFIG_FORMAT)
+    if fmt != CONFIG_FORMAT:
+        raise ConfigError(f"{source}: format: expected {CONFIG_FORMAT!r}, got {fmt!r}")
+
+    values: dict[str, dict[str, Any]] = {}
+    for section, body in raw.items():
+        if section not in SECTIONS:
+            raise ConfigError(f"{source}: unknown key {_quote(section)}{_suggest(str(section))}")
+        if body is None:
+            body = {}
+        if not isinstance(body, dict):
+            raise ConfigError(f"{source}: {section}: expected a mapping of its fields, got {_show(body)}")
+        values[section] = {}
+        for name, value in body.items():
+            key = f"{section}.{name}"
+            if name not in _hints(SECTIONS[section]):
+                raise ConfigError(f"{source}: unknown key {_quote(key)}{_suggest(key)}")
+            values[section][name] = _coerce_or_raise(value, SECTIONS[section], name, source)
+
+    for text in overrides:
+        key, sep, value_text = text.partition("=")
+        key = key.strip()
+        if not sep:
+            raise ConfigError(f"--set {text}: expected KEY=VALUE, such as ppo.lr=3e-4")
+        section, _, name = key.partition(".")
+        if section not in SECTIONS or name not in _hints(SECTIONS[section]):
+            raise ConfigError(f"--set: unknown key {_quote(key)}{_suggest(key)}")
+        try:
+            value = yaml.load(value_text, Loader=_Loader)
+        except yaml.YAMLError as exc:
+            raise ConfigError(f"--set {key}: the value is not valid YAML ({_one_line(exc)})") from None
+        values.setdefault(section, {})[name] = _coerce_or_raise(value, SECTIONS[section], name, "--set")
+
+    where = source + (f" with --set {' '.join(overrides)}" if overrides else "")
+    sections = {}
+    for section, cls in SECTIONS.items():
+        given = values.get(section, {})
+        for field in dataclasses.fields(cls):
+            if _is_required(field) and field.name not in given:
+                raise ConfigError(f"{where}: missing required key '{section}.{field.name}'")
+        try:
+            sections[section] = cls(**given)
+        except ConfigError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+    try:
+        return ExperimentConfig(**sections)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+
+
+def config_to_dict(config: ExperimentConfig) -> dict[str, dict[str, Any]]:
+    """Plain nested dict of every field (tuples as lists), as written by `save_config`."""
+    out = {}
+    for section in SECTIONS:
+        settings = getattr(config, section)
+        out[section] = {
+            f.name: list(v) if isinstance(v := getattr(settings, f.name), tuple) else v
+            for f in dataclasses.fields(settings)
+        }
+    return out
+
+
+def format_config(config: ExperimentConfig) -> str:
+    """The resolved config as YAML text, `format` line first; `load_config` reads it back to an equal config."""
+    body = yaml.safe_dump(config_to_dict(config), sort_keys=False, default_flow_style=False)
+    return f"# Resolved experiment config: every field, defaults included.\nformat: {CONFIG_FORMAT}\n{body}"
+
+
+def save_config(config: ExperimentConfig, path: str | os.PathLike) -> Path:
+    """Write the resolved config atomically to `path` (usually `run_dir / CONFIG_FILENAME`) and return the path."""
+    path = Path(path)
+    atomic_write_text(path, format_config(config))
+    return path
+
+
+# ----------------------------------------------------------------------------------------------------- checking
+
+
+def _check_types(obj) -> None:
+    """Check (and normalise: int -> float, list -> tuple) every field of a settings dataclass in place."""
+    for name, hint in _hints(type(obj)).items():
+        value = getattr(obj, name)
+        if dataclasses.is_dataclass(hint):
+            if not isinstance(value, hint):
+                raise ConfigError(f"{name}: expected {hint.__name__}, got {_show(value)}")
+            continue
+        object.__setattr__(obj, name, _coerce(value, hint, f"{_SECTION_OF.get(type(obj), '?')}.{name}"))
+
+
+def _require(obj, name: str, ok: bool, problem: str) -> None:
+    if not ok:
+        key = f"{_SECTION_OF[type(obj)]}.{name}"
+        raise ConfigError(f"{key}: {problem} (got {getattr(obj, name)!r})")
+
+
+def _coerce(value: Any, hint: Any, key: str) -> Any:
+    """`value` as the field type `hint`, or a ConfigError "key: expected ..., got ..."."""
+    origin = typing.get_origin(hint)
+    if origin in (Union, types.UnionType):  # `X | None`
+        if value is None:
+            return None
+        (inner,) = [a for a in typing.get_args(hint) if a is not type(None)]
+        try:
+            return _coerce(value, inner, key)
+        except ConfigError:
+            raise _type_error(key, hint, value) from None
+    if origin is Literal:
+        if isinstance(value, str) and value in typing.get_args(hint):
+            return value
+        raise _type_error(key, hint, value)
+    if origin is tuple:
+        if not isinstance(value, list | tuple):
+            raise _type_error(key, hint, value)
+        item = typing.get_args(hint)[0]
+        return tuple(_coerce(v, item, f"{key}[{i}]") for i, v in enumerate(value))
+    if not _matches(value, hint):
+        raise _type_error(key, hint, value)
+    if hint is float:
+        return float(value)
+    if hint is int:
+        return int(value)
+    return value
+
+
+def _matches(value: Any, hint: type) -> bool:
+    if hint is bool:
+        return isinstance(value, bool)
+    if hint is int:
+        return (isinstance(value, int) and not isinstance(value, bool)) or (
+            isinstance(value, float) and value.is_integer()
+        )
+    if hint is float:
+        return isinstance(value, int | float) and not isinstance(value, bool)
+    return isinstance(value, hint)
+
+
+def _describe(hint: Any) -> str:
+    origin = typing.get_origin(hint)
+    if origin in (Union, types.UnionType):
+        (inner,) = [a for a in typing.get_args(hint) if a is not type(None)]
+        return f"{_describe(inner)} or null"
+    if origin is Literal:
+        return "one of " + ", ".join(map(repr, typing.get_args(hint)))
+    if origin is tuple:
+        return f"a list of {_describe(typing.get_args(hint)[0]).removeprefix('a ')}s"
+    return {bool: "true or false", int: "an integer", float: "a number", str: "a string"}.get(hint, str(hint))
+
+
+def _type_error(key: str, hint: Any, value: Any) -> ConfigError:
+    return ConfigError(f"{key}: expected {_describe(hint)}, got {_show(value)}")
+
+
+def _coerce_or_raise(value: Any, cls: type, name: str, source: str) -> Any:
+    try:
+        return _coerce(value, _hints(cls)[name], f"{_SECTION_OF[cls]}.{name}")
+    except ConfigError as exc:
+        raise ConfigError(f"{source}: {exc}") from None
+
+
+_HINTS: dict[type, dict[str, Any]] = {}
+
+
+def _hints(cls: type) -> dict[str, Any]:
+    """Field name -> resolved type annotation, in declaration order."""
+    if cls not in _HINTS:
+        hints = typing.get_type_hints(cls)
+        _HINTS[cls] = {f.name: hints[f.name] for f in dataclasses.fields(cls)}
+    return _HINTS[cls]
+
+
+def _is_required(field: dataclasses.Field) -> bool:
+    return field.default is dataclasses.MISSING and field.default_factory is dataclasses.MISSING
+
+
+# Names people bring from other PPO code bases -> our field names.
+_ALIASES = {
+    "learning_rate": "lr",
+    "epochs": "update_epochs",
+    "num_epochs": "update_epochs",
+    "lambda": "gae_lambda",
+    "entropy_coef": "ent_coef",
+    "value_coef": "vf_coef",
+    "clip": "clip_eps",
+    "timesteps": "total_timesteps",
+    "grad_norm": "max_grad_norm",
+}
+
+
+def _suggest(key: str) -> str:
+    """ "; did you mean 'ppo.lr'?" for the closest valid dotted key, or a list of the sections."""
+    head, _, leaf = key.rpartition(".")
+    leaf = _ALIASES.get(leaf, leaf)
+    field_keys = [f"{s}.{n}" for s, cls in SECTIONS.items() for n in _hints(cls)]
+    close = [k for k in field_keys if k.rpartition(".")[2] == leaf and k != key]  # right field, wrong section
+    if not close and head in SECTIONS:  # a misspelt field of a real section
+        close = [f"{head}.{m}" for m in difflib.get_close_matches(leaf, _hints(SECTIONS[head]), n=1, cutoff=0.5)]
+    if not close and not head:  # a misspelt section
+        close = difflib.get_close_matches(key, SECTIONS, n=1, cutoff=0.4)
+    if not close:
+        close = difflib.get_close_matches(key, list(SECTIONS) + field_keys, n=1, cutoff=0.6)
+    return f"; did you mean {close[0]!r}?" if close else f"; valid sections: {', '.join(SECTIONS)}"
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    if len(text) > 60:
+        text = text[:57] + "..."
+    return f"{text} ({type(value).__name__})"
+
+
+def _quote(key: Any) -> str:
+    return repr(str(key)) if isinstance(key, str) else repr(key)
+
+
+def _one_line(exc: Exception) -> str:
+    return " ".join(str(exc).split())
+
+
+# ----------------------------------------------------------------------------------------------------- YAML
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader with YAML 1.2 scalars: floats without a dot (`5e-5`, `1e6`) are numbers and only true/false are
+    booleans (so `wandb: off` is the string 'off', not false). Duplicate keys are an error."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
+
+
+_Loader.yaml_implicit_resolvers = {
+    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:bool"]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
+}
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF")
+)
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+    list("-+.0123456789"),
+)
+
+
+def _read_yaml(path: Path) -> Any:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: no such experiment file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{path}: cannot read ({_one_line(exc)})") from None
+    try:
+        data = yaml.load(text, Loader=_Loader)
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"{path}: invalid YAML ({_one_line(exc)})") from None
+    return {} if data is None else data
