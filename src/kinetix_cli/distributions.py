@@ -1,0 +1,134 @@
+"""Action distributions of the policies: small pure pytrees (no distrax), one per action type.
+
+Every distribution holds arrays with any leading batch shape ``...`` and answers per batch entry:
+`sample(key)`, `log_prob(action)`, `entropy()` and `mode()`. Actions follow `kinetix_cli.actions`:
+
+- `MultiCategorical` for ``multi-discrete``: int32 (..., 6), entry i in [0, nvec[i]) with nvec (3, 3, 3, 3, 2, 2).
+- `Categorical` for ``discrete``: int32 (...,) in [0, 11).
+- `DiagGaussian` for ``continuous``: float32 (..., 6), unbounded (the environment clips).
+
+Impossible choices carry the logit -inf. Entropies and gradients stay finite: the p log p terms of those
+choices are replaced by 0 before the product, so no 0 x inf appears in the forward or backward pass.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+from flax import struct
+
+LOG_2PI = math.log(2.0 * math.pi)
+
+
+def _entropy_from_logits(logits: jax.Array) -> jax.Array:
+    """(...,) entropy [nats] of categorical logits (..., K); -inf logits count as impossible choices."""
+    log_p = jax.nn.log_softmax(logits, axis=-1)
+    log_p = jnp.where(jnp.isneginf(logits), 0.0, log_p)
+    return -jnp.sum(jnp.exp(log_p) * log_p * ~jnp.isneginf(logits), axis=-1)
+
+
+def _log_prob_from_logits(logits: jax.Array, action: jax.Array) -> jax.Array:
+    """(...,) log-probability of the int choices (...,) under logits (..., K); the batch shapes broadcast."""
+    action = jnp.asarray(action, jnp.int32)
+    shape = jnp.broadcast_shapes(logits.shape[:-1], action.shape)
+    log_p = jnp.broadcast_to(jax.nn.log_softmax(logits, axis=-1), (*shape, logits.shape[-1]))
+    return jnp.take_along_axis(log_p, jnp.broadcast_to(action, shape)[..., None], axis=-1)[..., 0]
+
+
+@struct.dataclass
+class Categorical:
+    """One choice among K.
+
+    Attributes:
+        logits: (..., K) float32 unnormalised log-probabilities; -inf marks an impossible choice.
+    """
+
+    logits: jax.Array
+
+    def sample(self, key: jax.Array) -> jax.Array:
+        """(...,) int32 choices drawn with `key`."""
+        return jax.random.categorical(key, self.logits, axis=-1).astype(jnp.int32)
+
+    def log_prob(self, action: jax.Array) -> jax.Array:
+        """(...,) log-probability of int choices (...,)."""
+        return _log_prob_from_logits(self.logits, action)
+
+    def entropy(self) -> jax.Array:
+        """(...,) entropy [nats]."""
+        return _entropy_from_logits(self.logits)
+
+    def mode(self) -> jax.Array:
+        """(...,) int32 most likely choice."""
+        return jnp.argmax(self.logits, axis=-1).astype(jnp.int32)
+
+
+@struct.dataclass
+class MultiCategorical:
+    """E independent choices, entry i among nvec[i], padded to K = max(nvec) choices.
+
+    Attributes:
+        logits: (..., E, K) float32; logits[..., i, k] is -inf for k >= nvec[i] (see `from_flat`).
+    """
+
+    logits: jax.Array
+
+    @classmethod
+    def from_flat(cls, flat: jax.Array, nvec: tuple[int, ...]) -> MultiCategorical:
+        """From (..., E * K) raw logits: reshaped to (..., E, K), padding entries set to -inf."""
+        k = max(nvec)
+        logits = flat.reshape(*flat.shape[:-1], len(nvec), k)
+        valid = jnp.arange(k)[None, :] < jnp.asarray(nvec)[:, None]
+        return cls(jnp.where(valid, logits, -jnp.inf))
+
+    def sample(self, key: jax.Array) -> jax.Array:
+        """(..., E) int32 choices drawn with `key`."""
+        return jax.random.categorical(key, self.logits, axis=-1).astype(jnp.int32)
+
+    def log_prob(self, action: jax.Array) -> jax.Array:
+        """(...,) joint log-probability of int choices (..., E): the sum over entries."""
+        return jnp.sum(_log_prob_from_logits(self.logits, action), axis=-1)
+
+    def entropy(self) -> jax.Array:
+        """(...,) joint entropy [nats]: the sum over entries."""
+        return jnp.sum(_entropy_from_logits(self.logits), axis=-1)
+
+    def mode(self) -> jax.Array:
+        """(..., E) int32 most likely choice of every entry."""
+        return jnp.argmax(self.logits, axis=-1).astype(jnp.int32)
+
+
+@struct.dataclass
+class DiagGaussian:
+    """Independent normal per action entry.
+
+    Attributes:
+        mean: (..., D) float32.
+        log_std: (..., D) float32 log standard deviation (broadcast to `mean`'s shape).
+    """
+
+    mean: jax.Array
+    log_std: jax.Array
+
+    def sample(self, key: jax.Array) -> jax.Array:
+        """(..., D) float32 draw with `key`."""
+        noise = jax.random.normal(key, self.mean.shape, self.mean.dtype)
+        return self.mean + jnp.exp(self.log_std) * noise
+
+    def log_prob(self, action: jax.Array) -> jax.Array:
+        """(...,) log-density of (..., D) actions, summed over entries."""
+        z = (action - self.mean) * jnp.exp(-self.log_std)
+        return jnp.sum(-0.5 * z**2 - self.log_std - 0.5 * LOG_2PI, axis=-1)
+
+    def entropy(self) -> jax.Array:
+        """(...,) differential entropy [nats], summed over entries."""
+        log_std = jnp.broadcast_to(self.log_std, self.mean.shape)
+        return jnp.sum(0.5 + 0.5 * LOG_2PI + log_std, axis=-1)
+
+    def mode(self) -> jax.Array:
+        """(..., D) the mean."""
+        return self.mean
+
+
+Distribution = Categorical | MultiCategorical | DiagGaussian
