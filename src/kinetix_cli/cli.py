@@ -298,6 +298,36 @@ def generate(
     console.print(f"wrote {out}: {manifest['count']:,} {size} levels in {len(manifest['shards'])} shard(s); {stats}")
 
 
+@app.command()
+def pretrain(
+    config: Path = typer.Option(..., "--config", help="Experiment config (YAML), e.g. experiments/cpu-small.yaml."),
+    run_dir: Path = typer.Option(..., "--run-dir", help="Folder for config, metrics and checkpoints."),
+    levels: Path = typer.Option(None, "--levels", help="Train on this level set instead of generated levels."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
+    overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+) -> None:
+    """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    from kinetix_cli.config import load_config
+    from kinetix_cli.train import train
+
+    extra = ["levels.source=levelset", f"levels.levelset={levels}"] if levels else []
+    experiment = load_config(config, [*extra, *overrides])
+    p = experiment.ppo
+    columns = (TextColumn("training"), BarColumn(), TextColumn("{task.fields[info]}"), TimeElapsedColumn())
+    with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
+        task = bar.add_task("train", total=p.num_updates * p.batch_size, info="levels and compile...")
+
+        def report(r: dict) -> None:
+            info = f"{r['steps']:,} steps, {r['sps']:,.0f} SPS, return {r['return']:+.2f}"
+            info += f", solve rate {r['solve_rate']:.0%}"
+            bar.update(task, completed=r["steps"], info=info)
+
+        train(experiment, run_dir, resume=resume, progress=report)
+    console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
+
+
 @levels_app.command("info")
 def levels_info(
     path: Path = typer.Argument(..., help="Level-set folder."),

@@ -1,0 +1,64 @@
+"""Training runs on disk: metrics and checkpoints are written, and a resumed run ends where an uninterrupted one
+does, bit for bit."""
+
+from __future__ import annotations
+
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from kinetix_cli.config import load_config
+from kinetix_cli.errors import UserError
+from kinetix_cli.train import level_pool, train
+
+TINY = [
+    "levels.source=files",
+    "levels.files=[levels/s/rocket-car-jump.json, levels/s/pad-to-pad.json]",
+    "model.width=16",
+    "model.actor_critic_layers=1",
+    "ppo.num_envs=8",
+    "ppo.num_steps=8",
+    "ppo.num_minibatches=2",
+    "ppo.update_epochs=1",
+    "ppo.total_timesteps=384",  # 6 updates
+    "run.checkpoint_every=2",
+]
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    config = load_config("experiments/cpu-small.yaml", TINY)
+    return config, level_pool(config)
+
+
+class Crash(Exception):
+    pass
+
+
+def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny):
+    config, pool = tiny
+    whole = train(config, tmp_path / "whole", pool=pool)
+
+    def crash_after_3(record):
+        if record["update"] == 3:
+            raise Crash
+
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", pool=pool, progress=crash_after_3)
+    assert sorted(p.name for p in (tmp_path / "cut" / "checkpoints").iterdir()) == ["2"]
+    resumed = train(config, tmp_path / "cut", resume=True, pool=pool)
+
+    jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
+    lines = [json.loads(x) for x in (tmp_path / "cut" / "metrics.jsonl").read_text().splitlines()]
+    assert [x["update"] for x in lines] == [1, 2, 3, 4, 5, 6]
+    assert {"steps", "sps", "return", "solve_rate", "policy_loss", "value_loss", "entropy"} <= set(lines[0])
+
+
+def test_refuses_to_overwrite_a_run(tmp_path, tiny):
+    config, pool = tiny
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "notes.txt").write_text("mine")
+    with pytest.raises(UserError, match="not empty"):
+        train(config, tmp_path / "run", pool=pool)
