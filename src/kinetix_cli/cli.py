@@ -307,13 +307,19 @@ def pretrain(
     overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
 ) -> None:
     """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
     from kinetix_cli.config import load_config
-    from kinetix_cli.train import train
 
     extra = ["levels.source=levelset", f"levels.levelset={levels}"] if levels else []
-    experiment = load_config(config, [*extra, *overrides])
+    _train_with_progress(load_config(config, [*extra, *overrides]), run_dir, resume)
+
+
+def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=None) -> None:
+    """Run `train` under a rich progress bar (steps, SPS, return, solve rate, ETA)."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    from kinetix_cli.train import train
+
     p = experiment.ppo
     columns = (TextColumn("training"), BarColumn(), TextColumn("{task.fields[info]}"), TimeElapsedColumn())
     with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
@@ -324,8 +330,78 @@ def pretrain(
             info += f", solve rate {r['solve_rate']:.0%}"
             bar.update(task, completed=r["steps"], info=info)
 
-        train(experiment, run_dir, resume=resume, progress=report)
+        train(experiment, run_dir, resume=resume, progress=report, init_params=init_params)
     console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
+
+
+@app.command()
+def finetune(
+    levels: list[Path] = typer.Argument(..., help="Level files or folders to train on (one size)."),
+    source: str = typer.Option(..., "--from", help="Run directory or checkpoint to start from, or 'none' (scratch)."),
+    run_dir: Path = typer.Option(..., "--run-dir", help="Folder for config, metrics and checkpoints."),
+    config: Path = typer.Option(Path("experiments/finetune.yaml"), "--config", help="Experiment config (YAML)."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
+    overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+) -> None:
+    """Train on hand-made levels, starting from a trained agent (--from RUN) or from scratch (--from none).
+
+    With --from RUN the model and observation settings come from that run, so its parameters fit; --from none
+    uses the config's, so pass the same --set values to compare the two at equal settings."""
+    import dataclasses
+
+    from kinetix_cli.config import load_config
+    from kinetix_cli.evaluate import load_policy
+    from kinetix_cli.level_file import load_level
+
+    files = _level_paths(levels)
+    sizes = {_size_name(load_level(path).default_static()) for path in files}
+    if len(sizes) != 1:
+        raise UserError(f"finetune: the levels have sizes {', '.join(sorted(sizes))}; give levels of one size")
+    listed = "[" + ", ".join(str(path) for path in files) + "]"
+    settings = [f"env.size={sizes.pop()}", "levels.source=files", f"levels.files={listed}"]
+    experiment = load_config(config, [*settings, *overrides])
+    params = None
+    if source != "none":
+        pretrained, params, _ = load_policy(source)
+        env = dataclasses.replace(experiment.env, observation=pretrained.env.observation, action=pretrained.env.action)
+        experiment = dataclasses.replace(experiment, env=env, model=pretrained.model)
+    _train_with_progress(experiment, run_dir, resume, params)
+
+
+@app.command("eval")
+def eval_command(
+    policy: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
+    levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
+    attempts: int = typer.Option(20, min=1, help="Stochastic episodes per level."),
+    seed: int = typer.Option(0, help="Seed of the sampled actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Solve rate, return and episode length of a trained policy per level and per suite."""
+    import dataclasses
+
+    from kinetix_cli.evaluate import EVAL_FORMAT, evaluate, load_policy, suite_summary
+    from kinetix_cli.io import atomic_write_json
+
+    config, params, update = load_policy(policy)
+    results = evaluate(config, params, _level_paths(levels), attempts, seed)
+    table = Table("level", "solve rate", "return", "length")
+    for r in results:
+        table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")
+    summary = suite_summary(results)
+    for name, row in summary.items():
+        table.add_row(f"[bold]{name}[/bold] ({row['levels']} levels)", f"{row['solve_rate']:.0%}", "", "")
+    console.print(table)
+    if json_path is not None:
+        payload = {
+            "policy": str(policy),
+            "update": update,
+            "attempts": attempts,
+            "seed": seed,
+            "levels": [dataclasses.asdict(r) for r in results],
+            "suites": summary,
+        }
+        atomic_write_json(json_path, payload, EVAL_FORMAT)
+        console.print(f"wrote {json_path}")
 
 
 @levels_app.command("info")
@@ -486,7 +562,9 @@ def render(
 @app.command()
 def rollout(
     level: Path = typer.Argument(..., help="Level file."),
-    policy: str = typer.Option("solution", help="noop, random or solution (the level's stored actions)."),
+    policy: str = typer.Option(
+        "solution", help="noop, random, solution (the level's stored actions) or a training run directory."
+    ),
     out: Path = typer.Option(None, "-o", "--out", help="GIF file to write (omit to only print the outcome)."),
     seed: int = typer.Option(0, help="Seed of the random policy."),
     scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF."),
@@ -495,10 +573,16 @@ def rollout(
     from kinetix_cli.level_file import load_level
     from kinetix_cli.rollout import POLICIES, episode_frames, record_episode
 
-    if policy not in POLICIES:
-        raise UserError(f"--policy: unknown policy {policy!r}; choose one of {', '.join(POLICIES)}")
     spec = load_level(level)
-    episode = record_episode(spec, policy, seed)
+    actions = None
+    if policy not in POLICIES:
+        if not Path(policy).is_dir():
+            raise UserError(f"--policy: {policy!r} is not one of {', '.join(POLICIES)} nor a run directory")
+        from kinetix_cli.evaluate import load_policy, policy_actions
+
+        config, params, _ = load_policy(policy)
+        actions = policy_actions(config, params, spec, seed)
+    episode = record_episode(spec, policy, seed, actions=actions)
     ending = "[green]solved[/green]" if episode.solved else "[red]failed[/red]" if episode.failed else "timed out"
     console.print(
         f"{spec.name}: policy {policy}: {ending} after {episode.length} steps "

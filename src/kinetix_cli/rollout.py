@@ -77,10 +77,12 @@ def _trace(config: EnvConfig, params: EnvParams, level: Level, actions: jax.Arra
     return jax.lax.scan(body, env.state_from_level(level), actions)[1]
 
 
-def record_episode(spec: LevelSpec, policy: str, seed: int = 0, static=None) -> Episode:
-    """Play one episode of `spec` under `policy` and keep every state until it ends."""
+def record_episode(spec: LevelSpec, policy: str, seed: int = 0, static=None, actions=None) -> Episode:
+    """Play one episode of `spec` under `policy` (or the given (H, 6) `actions`) and keep every state until it
+    ends."""
     config, params, level = make_env(spec, static)
-    actions = policy_actions(spec, policy, int(params.max_steps), seed)
+    if actions is None:
+        actions = policy_actions(spec, policy, int(params.max_steps), seed)
     physics, rewards, done, solved, failed = jax.device_get(_trace(config, params, level, jnp.asarray(actions)))
     length = int(np.argmax(done)) + 1 if done.any() else len(done)
     start = jax.tree.map(lambda x: np.asarray(x)[None], level.physics)

@@ -117,9 +117,10 @@ def train(
     resume: bool = False,
     progress: Callable[[dict], None] | None = None,
     pool: Level | None = None,
+    init_params=None,
 ) -> Runner:
     """Train (or resume) a run in `run_dir`; returns the final training state. `progress(metrics)` is called
-    after every update."""
+    after every update; `init_params` (fine-tuning) replaces the freshly initialised parameters."""
     import orbax.checkpoint as ocp
 
     from kinetix_cli.bench import environment_info
@@ -144,6 +145,14 @@ def train(
     optimizer = make_optimizer(lr, p.max_grad_norm, p.adam_eps)
     update = make_update(env, env_params, network.apply, optimizer, hyper(config))
     runner = init_runner(env, env_params, network.init, optimizer, p.num_envs, jax.random.key(config.run.seed))
+    if init_params is not None:
+        if jax.tree.structure(init_params) != jax.tree.structure(runner.params) or any(
+            a.shape != b.shape
+            for a, b in zip(jax.tree.leaves(init_params), jax.tree.leaves(runner.params), strict=True)
+        ):
+            raise UserError("--from: the checkpoint's network does not match this run's model settings")
+        init_params = jax.tree.map(jnp.asarray, init_params)
+        runner = runner.replace(params=init_params, opt_state=optimizer.init(init_params))
 
     manager = _checkpointer(run_dir)
     start = 0

@@ -62,3 +62,55 @@ def test_refuses_to_overwrite_a_run(tmp_path, tiny):
     (tmp_path / "run" / "notes.txt").write_text("mine")
     with pytest.raises(UserError, match="not empty"):
         train(config, tmp_path / "run", pool=pool)
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory, tiny):
+    config, pool = tiny
+    run_dir = tmp_path_factory.mktemp("runs") / "tiny"
+    train(config, run_dir, pool=pool)
+    return run_dir
+
+
+def test_eval_finetune_and_rollout_from_a_run(tmp_path, tiny_run):
+    from typer.testing import CliRunner
+
+    from kinetix_cli.cli import app
+
+    runner = CliRunner()
+    out = tmp_path / "eval.json"
+    level = "levels/s/rocket-car-jump.json"
+    result = runner.invoke(app, ["eval", str(tiny_run), "--levels", level, "--attempts", "2", "--json", str(out)])
+    assert result.exit_code == 0, result.output
+    report = json.loads(out.read_text())
+    assert report["format"] == "kinetix-eval/1" and report["update"] == 6
+    assert 0.0 <= report["suites"]["all"]["solve_rate"] <= 1.0 and report["levels"][0]["level"] == level
+
+    sets = [arg for pair in (("--set", x) for x in TINY[2:]) for arg in pair]
+    tuned = tmp_path / "tuned"
+    args = [
+        "finetune",
+        level,
+        "--from",
+        str(tiny_run),
+        "--run-dir",
+        str(tuned),
+        "--config",
+        "experiments/cpu-small.yaml",
+    ]
+    result = runner.invoke(app, [*args, *sets])
+    assert result.exit_code == 0, result.output
+    assert (tuned / "checkpoints" / "6").is_dir()
+
+    gif = tmp_path / "run.gif"
+    result = runner.invoke(app, ["rollout", level, "--policy", str(tiny_run), "-o", str(gif)])
+    assert result.exit_code == 0 and gif.stat().st_size > 0, result.output
+
+
+def test_eval_of_something_that_is_not_a_run(tmp_path, monkeypatch, capsys):
+    from kinetix_cli.cli import main
+
+    monkeypatch.setattr("sys.argv", ["kinetix", "eval", str(tmp_path)])
+    with pytest.raises(SystemExit) as info:
+        main()
+    assert info.value.code == 2 and "not a run directory" in capsys.readouterr().err
