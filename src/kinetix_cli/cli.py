@@ -305,12 +305,14 @@ def pretrain(
     levels: Path = typer.Option(None, "--levels", help="Train on this level set instead of generated levels."),
     resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
     overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+    wandb: str = typer.Option(None, "--wandb", help="Also log to Weights & Biases: offline or online."),
 ) -> None:
     """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set."""
 
     from kinetix_cli.config import load_config
 
     extra = ["levels.source=levelset", f"levels.levelset={levels}"] if levels else []
+    extra += [f"run.wandb={wandb}"] if wandb else []
     _train_with_progress(load_config(config, [*extra, *overrides]), run_dir, resume)
 
 

@@ -163,6 +163,7 @@ def train(
         _truncate_metrics(run_dir / METRICS_FILE, start)
 
     steps_per_update = p.num_envs * p.num_steps
+    logger = _wandb_run(config, run_dir, resume)
     with open(run_dir / METRICS_FILE, "a") as log:
         for u in range(start, p.num_updates):
             tic = time.perf_counter()
@@ -177,9 +178,39 @@ def train(
             if (every and (u + 1) % every == 0) or u + 1 == p.num_updates:
                 manager.save(u + 1, args=ocp.args.StandardSave(_to_disk(runner)))
                 manager.wait_until_finished()  # a kill after this point loses no finished update
+            if logger is not None:
+                logger.log(record, step=record["steps"])
             if progress is not None:
                 progress(record)
+    if logger is not None:
+        logger.finish()
     return runner
+
+
+def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
+    """A wandb run when `run.wandb` is 'offline' or 'online', else None. wandb is optional: if it cannot start
+    (not installed, no network), training goes on with a warning; metrics.jsonl is always written."""
+    if config.run.wandb == "off":
+        return None
+    import dataclasses
+    import warnings
+
+    try:
+        import wandb
+
+        return wandb.init(
+            project="kinetix",
+            name=run_dir.name,
+            dir=str(run_dir),
+            mode=config.run.wandb,
+            config=dataclasses.asdict(config),
+            resume="allow" if resume else None,
+        )
+    except Exception as exc:  # any failure to start logging must not stop training
+        warnings.warn(
+            f"wandb did not start ({type(exc).__name__}: {exc}); metrics go to metrics.jsonl only", stacklevel=2
+        )
+        return None
 
 
 def _linear_schedule(lr: float, total: int):

@@ -114,3 +114,13 @@ def test_eval_of_something_that_is_not_a_run(tmp_path, monkeypatch, capsys):
     with pytest.raises(SystemExit) as info:
         main()
     assert info.value.code == 2 and "not a run directory" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_wandb_offline_logs_next_to_the_run(tmp_path, tiny):
+    config, pool = tiny
+    import dataclasses
+
+    config = dataclasses.replace(config, run=dataclasses.replace(config.run, wandb="offline"))
+    train(config, tmp_path / "run", pool=pool)
+    assert list((tmp_path / "run" / "wandb").glob("offline-run-*"))
