@@ -63,19 +63,10 @@ def policy_episode(
         state, outcome, done = carry
         dist, _ = apply_fn(params, env.observe(state))
         state, reward, ended, info = env.step_env(state, dist.sample(k), params_env)
-        live = ~done
-        outcome = Outcome(
-            solved=outcome.solved | (live & info["solved"]),
-            failed=outcome.failed | (live & info["failed"]),
-            length=outcome.length + live.astype(jnp.int32),
-            total_return=outcome.total_return + jnp.where(live, reward, 0.0),
-            min_distance=jnp.where(live, jnp.minimum(outcome.min_distance, info["distance"]), outcome.min_distance),
-        )
-        return (state, outcome, done | ended), None
+        return (state, outcome.after_step(done, reward, info), done | ended), None
 
-    start = Outcome(jnp.bool_(False), jnp.bool_(False), jnp.int32(0), jnp.float32(0.0), state.distance)
     keys = jax.random.split(key, horizon)
-    (_, outcome, _), _ = jax.lax.scan(body, (state, start, jnp.bool_(False)), keys)
+    (_, outcome, _), _ = jax.lax.scan(body, (state, Outcome.start(state), jnp.bool_(False)), keys)
     return outcome
 
 

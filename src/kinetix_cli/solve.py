@@ -49,6 +49,22 @@ class Outcome:
     total_return: jax.Array
     min_distance: jax.Array
 
+    @staticmethod
+    def start(state) -> Outcome:
+        """Nothing happened yet, from an `EnvState`."""
+        return Outcome(jnp.bool_(False), jnp.bool_(False), jnp.int32(0), jnp.float32(0.0), state.distance)
+
+    def after_step(self, done, reward, info: dict) -> Outcome:
+        """Count one environment step unless the episode had already ended (`done` before the step)."""
+        live = ~done
+        return Outcome(
+            solved=self.solved | (live & info["solved"]),
+            failed=self.failed | (live & info["failed"]),
+            length=self.length + live.astype(jnp.int32),
+            total_return=self.total_return + jnp.where(live, reward, 0.0),
+            min_distance=jnp.where(live, jnp.minimum(self.min_distance, info["distance"]), self.min_distance),
+        )
+
 
 def make_env(spec: LevelSpec, static=None) -> tuple[EnvConfig, EnvParams, Level]:
     """The multi-discrete, symbolic-flat environment config of one level, its params and its device level."""
@@ -66,18 +82,9 @@ def run_episode(config: EnvConfig, params: EnvParams, level: Level, actions: jax
     def body(carry, action):
         state, outcome, done = carry
         state, reward, ended, info = env.step_env(state, action, params)
-        live = ~done
-        outcome = Outcome(
-            solved=outcome.solved | (live & info["solved"]),
-            failed=outcome.failed | (live & info["failed"]),
-            length=outcome.length + live.astype(jnp.int32),
-            total_return=outcome.total_return + jnp.where(live, reward, 0.0),
-            min_distance=jnp.where(live, jnp.minimum(outcome.min_distance, info["distance"]), outcome.min_distance),
-        )
-        return (state, outcome, done | ended), None
+        return (state, outcome.after_step(done, reward, info), done | ended), None
 
-    start = Outcome(jnp.bool_(False), jnp.bool_(False), jnp.int32(0), jnp.float32(0.0), state.distance)
-    (_, outcome, _), _ = jax.lax.scan(body, (state, start, jnp.bool_(False)), actions)
+    (_, outcome, _), _ = jax.lax.scan(body, (state, Outcome.start(state), jnp.bool_(False)), actions)
     return outcome
 
 
