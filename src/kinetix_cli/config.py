@@ -185,8 +185,9 @@ class RunSettings:
     Attributes:
         seed: PRNG seed of the whole run (levels, policy sampling, initial parameters).
         checkpoint_every: save a checkpoint every this many updates [updates]; 0 saves only at the end.
-        eval_every: evaluate every this many updates [updates]; 0 never evaluates during training.
-        eval_attempts: stochastic attempts per evaluation level (solve rate = share solved on the first episode).
+        eval_every: evaluate every this many updates [updates]; 0 never. NOT USED YET: training does not
+            evaluate on hand-made levels; run `kinetix eval` on the run directory.
+        eval_attempts: stochastic attempts per evaluation level (not used yet, see eval_every).
         wandb: Weights & Biases logging: 'off' (default), 'offline' (local files to sync later) or 'online'.
         init_from: checkpoint to load the initial parameters from (fine-tuning), or null to start from scratch.
     """

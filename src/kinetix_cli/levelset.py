@@ -37,6 +37,8 @@ DEFAULT_SHARD_SIZE = 4096
 ZIP_DATE_TIME = (1980, 1, 1, 0, 0, 0)
 """Fixed zip member time stamp (the earliest zip allows), so shards are byte-reproducible."""
 IDENTITY_FIELDS = ("size", "count", "seed", "shard_size", "settings")
+MAX_IDLE_CHUNKS = 50
+"""Generation stops with an error after this many chunks in a row add no level (filters too strict)."""
 """Arguments that define a set: resuming or re-running with a different value is refused."""
 
 Arrays = dict[str, np.ndarray]
@@ -181,12 +183,19 @@ def generate_levelset(
         return manifest
     template = to_arrays(template_level(size))
     run = _resume(out, identity, template)
+    idle = 0  # chunks in a row that added no level
     while run.kept < count:
         i, (arrays, chunk_stats) = run.next_chunk, _chunk(chunk_fn, run.next_chunk, template)
         if run.offset == 0:
             for key, value in chunk_stats.items():
                 run.stats[key] = run.stats.get(key, 0) + int(value)
+        before = run.kept
         _consume(out, run, i, arrays, identity)
+        idle = 0 if run.kept > before else idle + 1
+        if idle >= MAX_IDLE_CHUNKS:
+            raise UserError(
+                f"{out}: {MAX_IDLE_CHUNKS} chunks in a row kept no new level ({dict(run.stats)}); loosen --filter"
+            )
         if progress is not None:
             progress(run.kept, dict(run.stats))
     manifest = dict(identity, version=tool_version(), shards=run.shards, stats=dict(sorted(run.stats.items())))

@@ -120,7 +120,8 @@ def train(
     init_params=None,
 ) -> Runner:
     """Train (or resume) a run in `run_dir`; returns the final training state. `progress(metrics)` is called
-    after every update; `init_params` (fine-tuning) replaces the freshly initialised parameters."""
+    after every update; `init_params` (fine-tuning), else the checkpoint named by `run.init_from`, replaces the
+    freshly initialised parameters."""
     import orbax.checkpoint as ocp
 
     from kinetix_cli.bench import environment_info
@@ -145,6 +146,10 @@ def train(
     optimizer = make_optimizer(lr, p.max_grad_norm, p.adam_eps)
     update = make_update(env, env_params, network.apply, optimizer, hyper(config))
     runner = init_runner(env, env_params, network.init, optimizer, p.num_envs, jax.random.key(config.run.seed))
+    if init_params is None and config.run.init_from:
+        from kinetix_cli.evaluate import load_policy
+
+        init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
         if jax.tree.structure(init_params) != jax.tree.structure(runner.params) or any(
             a.shape != b.shape

@@ -227,3 +227,17 @@ def test_empty_chunks_and_device_arrays_are_accepted(tmp_path, pool):
 def test_a_chunk_of_another_size_is_a_programming_error(tmp_path, pool):
     with pytest.raises(ValueError, match=r"chunk_fn\(0\).*physics/bodies/position"):
         generate(tmp_path, Chunks(pool), size="m")
+
+
+def test_filters_that_keep_nothing_stop_with_a_user_error(tmp_path, pool):
+    from kinetix_cli.levelset import MAX_IDLE_CHUNKS
+
+    calls = []
+
+    def only_repeats(i):  # one level, then the same level again and again: nothing new after chunk 0
+        calls.append(i)
+        return take(pool, [0]), {"sampled": 1}
+
+    with pytest.raises(UserError, match="kept no new level"):
+        generate(tmp_path, only_repeats, count=2)
+    assert len(calls) == MAX_IDLE_CHUNKS + 1

@@ -124,3 +124,24 @@ def test_wandb_offline_logs_next_to_the_run(tmp_path, tiny):
     config = dataclasses.replace(config, run=dataclasses.replace(config.run, wandb="offline"))
     train(config, tmp_path / "run", pool=pool)
     assert list((tmp_path / "run" / "wandb").glob("offline-run-*"))
+
+
+def test_init_from_loads_the_checkpoint_parameters(tmp_path, tiny_run, tiny):
+    from kinetix_cli.evaluate import load_policy
+
+    _, pool = tiny
+    wider = load_config("experiments/cpu-small.yaml", [*TINY, "model.width=32", f"run.init_from={tiny_run}"])
+    with pytest.raises(UserError, match="does not match"):  # the checkpoint was read and compared
+        train(wider, tmp_path / "wider", pool=pool)
+
+    def distance(a, b):
+        return max(float(np.abs(x - y).max()) for x, y in zip(jax.tree.leaves(a), jax.tree.leaves(b), strict=True))
+
+    one_update = [*TINY, "ppo.total_timesteps=64"]
+    loaded = load_policy(tiny_run)[1]
+    tuned = train(
+        load_config("experiments/cpu-small.yaml", [*one_update, f"run.init_from={tiny_run}"]), tmp_path / "a", pool=pool
+    )
+    fresh = train(load_config("experiments/cpu-small.yaml", [*one_update, "run.seed=1"]), tmp_path / "b", pool=pool)
+    # one Adam update moves each weight by about lr = 3e-4; another seed's initialisation is far away
+    assert distance(tuned.params, loaded) < 0.01 < distance(fresh.params, loaded)
