@@ -143,7 +143,9 @@ class Scene:
         self.arena: list[Body] = []
         for name, (centre, (w, h)) in zip(ARENA_NAMES, _ARENA_BOXES, strict=True):
             verts = np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
-            self.arena.append(Body(name=name, kind="polygon", position=centre, vertices=verts, fixed=True))
+            # Mode 2, as in the reference: the arena holds even bodies that collide with nothing else (mode 0).
+            arena = Body(name=name, kind="polygon", position=centre, vertices=verts, fixed=True, collision_mode=2)
+            self.arena.append(arena)
         self.polygons: list[Body] = []
         self.circles: list[Body] = []
         self.joints: list[Joint] = []

@@ -240,6 +240,14 @@ def test_collision_mode_rule():
         assert (y < 0.7) == passes, (other_mode, y)
 
 
+def test_arena_holds_mode_zero_bodies():
+    """The arena is mode 2, as in the reference: a body that collides with nothing else still lands on the floor."""
+    scene = Scene()
+    ghost = scene.add_circle((2.5, 2.0), radius=0.2, collision_mode=0)
+    _, traj = simulate(WORLD, scene.build(WORLD), 1.5)
+    np.testing.assert_allclose(traj.position[-1, slot(scene, ghost), 1], 0.6, atol=0.02)
+
+
 def test_inactive_body_neither_moves_nor_collides():
     """An inactive body keeps its pose exactly and a body falling through its place is not stopped by it."""
     scene = Scene()
