@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed-dev
 CMP_STAMP := $(VENV)/.installed-compare
 PYTEST_FLAGS ?=
 
-.PHONY: demo test test-all lint format bench clean
+.PHONY: demo test test-all lint format bench clean reference-levels
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -19,6 +19,24 @@ $(STAMP): pyproject.toml constraints.txt | $(BIN)/python
 $(CMP_STAMP): $(STAMP)
 	$(BIN)/pip install -q -c constraints.txt -e ".[dev,compare]"
 	touch $@
+
+# The reference's 74 hand-made levels (JSON, its own format), from the kinetix-env wheel on PyPI; the wheel is only
+# unzipped, never installed (it pins an older jax).
+REFERENCE_LEVELS := .cache/reference-levels
+REFERENCE_WHEEL := kinetix-env==3.0.2
+
+$(REFERENCE_LEVELS)/.fetched: | $(BIN)/python
+	rm -rf $(REFERENCE_LEVELS) .cache/wheels && mkdir -p $(REFERENCE_LEVELS) .cache/wheels
+	$(BIN)/pip download -q --no-deps $(REFERENCE_WHEEL) -d .cache/wheels
+	$(BIN)/python -c "import glob, pathlib, zipfile; \
+	z = zipfile.ZipFile(glob.glob('.cache/wheels/*.whl')[0]); \
+	names = [n for n in z.namelist() if n.startswith('kinetix/levels/') and n.endswith('.json')]; \
+	[pathlib.Path('$(REFERENCE_LEVELS)', n.removeprefix('kinetix/levels/')).parent.mkdir(parents=True, exist_ok=True) \
+	 or pathlib.Path('$(REFERENCE_LEVELS)', n.removeprefix('kinetix/levels/')).write_bytes(z.read(n)) for n in names]; \
+	print(f'unzipped {len(names)} reference levels into $(REFERENCE_LEVELS)/{{s,m,l}}')"
+	touch $@
+
+reference-levels: $(REFERENCE_LEVELS)/.fetched
 
 DEMO_LEVEL := levels/s/rocket-car-jump.json
 
@@ -48,10 +66,10 @@ format: $(STAMP)
 	$(BIN)/ruff format src tests
 	$(BIN)/ruff check --fix src tests
 
-test: lint
+test: lint reference-levels
 	$(BIN)/pytest -m "not slow" $(PYTEST_FLAGS)
 
-test-all: lint $(CMP_STAMP)
+test-all: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)
 
 bench: $(CMP_STAMP)
@@ -60,4 +78,4 @@ bench: $(CMP_STAMP)
 	$(BIN)/kinetix bench engine --size l --envs 1,64,1024,4096 --against jax2d --json bench-l.json
 
 clean:
-	rm -rf $(VENV) .pytest_cache .ruff_cache
+	rm -rf $(VENV) .pytest_cache .ruff_cache .cache

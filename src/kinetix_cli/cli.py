@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from pathlib import Path
 
 import typer
@@ -162,6 +163,36 @@ def _level_paths(paths: list[Path]) -> list[Path]:
     return files
 
 
+@app.command("import")
+def import_command(
+    paths: list[Path] = typer.Argument(
+        ..., help="Reference-format level files (Kinetix, KinetixJS) or folders of them."
+    ),
+    out: Path = typer.Option(..., "-o", "--out", help="Folder to write the converted levels into."),
+    report: Path = typer.Option(None, "--report", help="Also write what was not carried over to this JSON file."),
+) -> None:
+    """Convert reference Kinetix levels into kinetix-level files, listing what could not be carried over."""
+    from kinetix_cli.io import atomic_write_json
+    from kinetix_cli.reference_level import IMPORT_REPORT_FORMAT, import_reference_file
+
+    entries = []
+    for path in paths:
+        files = _level_paths([path])
+        for source in files:
+            target = out / (source.relative_to(path) if path.is_dir() else source.name)
+            notes = import_reference_file(source, target)
+            status = f"[yellow]{len(notes)} note(s)[/yellow]" if notes else "[green]ok[/green]"
+            console.print(f"{status} {source} -> {target}", highlight=False)
+            for note in notes:
+                console.print(f"    {note}", highlight=False)
+            entries.append({"source": str(source), "output": str(target), "notes": [vars(n) for n in notes]})
+    noted = sum(bool(e["notes"]) for e in entries)
+    console.print(f"imported {len(entries)} level(s) into {out}; {noted} with something not carried over")
+    if report is not None:
+        atomic_write_json(report, {"levels": entries}, IMPORT_REPORT_FORMAT)
+        console.print(f"wrote {report}")
+
+
 @app.command()
 def validate(
     paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
@@ -217,9 +248,13 @@ def validate(
 def levels_list(
     paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
     markdown: bool = typer.Option(False, "--markdown", help="Print a Markdown table (for levels/README.md)."),
+    play: int = typer.Option(
+        0, "--play", min=0, help="Also play a no-op and this many random episodes per level (adds two columns)."
+    ),
 ) -> None:
-    """One row per level: file, size, entities, solution length and goal."""
+    """One row per level: file, size, entities, solution length and goal (and with --play: no-op, random)."""
     from kinetix_cli.level_file import load_level
+    from kinetix_cli.solve import check_level
 
     rows = []
     for path in _level_paths(paths):
@@ -229,8 +264,15 @@ def levels_list(
         steps = "-"
         if spec.solution is not None:
             steps = str(sum(entry[1] for entry in spec.solution.get("actions", [])))
-        rows.append((str(path), _size_name(spec.default_static()), entities, steps, spec.description))
-    header = ("level", "size", "polygons/circles/joints/thrusters", "solution actions", "goal")
+        row = (str(path), _size_name(spec.default_static()), entities, steps)
+        if play:
+            outcome = check_level(spec, attempts=play)
+            noop = "yes" if bool(outcome["noop"].solved[0]) else "no"
+            row += (noop, f"{int(outcome['random'].solved.sum())}/{play}")
+        rows.append((*row, spec.description))
+    header = ("level", "size", "polygons/circles/joints/thrusters", "solution actions")
+    header += ("no-op solves", "random solves") if play else ()
+    header += ("goal",)
     if markdown:
         print("| " + " | ".join(header) + " |")
         print("|" + "---|" * len(header))
@@ -466,6 +508,25 @@ def levels_show(
     console.print(f"wrote {out}")
 
 
+@levels_app.command("sheet")
+def levels_sheet(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+    columns: int = typer.Option(0, min=0, help="Tiles per row (default: about square)."),
+    scale: float = typer.Option(40, min=5, max=500, help="Pixels per metre of each tile."),
+) -> None:
+    """Draw level files side by side in one PNG, each under its file name."""
+    import math
+
+    from kinetix_cli.contact_sheet import contact_sheet
+    from kinetix_cli.level_file import load_level
+    from kinetix_cli.render import save_png
+
+    levels = [(load_level(path).build(), path.stem) for path in _level_paths(paths)]
+    save_png(contact_sheet(levels, columns=columns or math.ceil(math.sqrt(len(levels))), scale=scale), out)
+    console.print(f"wrote {out} ({len(levels)} levels)")
+
+
 @levels_app.command("export")
 def levels_export(
     path: Path = typer.Argument(..., help="Level-set folder."),
@@ -611,6 +672,11 @@ def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds."))
     )
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings print as one line on stderr (a converted level's notes, for example), without a source line."""
+    Console(stderr=True, soft_wrap=True).print(f"[yellow]warning:[/yellow] {message}", highlight=False)
+
+
 def main() -> None:
     """Entry point: run the app; user errors print one line and exit with code 2.
 
@@ -618,6 +684,7 @@ def main() -> None:
     to an empty string to turn the cache off), so a second run of a command skips most of its compile time.
     """
     os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(Path.home() / ".cache" / "kinetix" / "jax"))
+    warnings.showwarning = _show_warning
     try:
         app()
     except UserError as exc:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +38,10 @@ _PARAM_KEYS = {f.name for f in dataclasses.fields(Params)}
 
 class LevelError(UserError):
     """A level file that cannot be loaded: the message names the file, the entity and the field."""
+
+
+class ConversionWarning(UserWarning):
+    """A reference-format level was loaded, but something in it could not be carried over (file: entity: field)."""
 
 
 @dataclasses.dataclass
@@ -121,7 +126,11 @@ def _format(value: Any, depth: int) -> str:
 
 
 def load_level(path: str | Path) -> LevelSpec:
-    """Read and validate a level file. Raises `LevelError` with the file, entity and field."""
+    """Read and validate a level file. Raises `LevelError` with the file, entity and field.
+
+    A file in the reference Kinetix format is converted on the way (`reference_level`); what the conversion
+    cannot carry over is reported as a `ConversionWarning` per note.
+    """
     path = Path(path)
     try:
         text = path.read_text()
@@ -133,6 +142,12 @@ def load_level(path: str | Path) -> LevelSpec:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise LevelError(f"{path}: not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+    if isinstance(data, dict) and "env_state" in data and "format" not in data:
+        from kinetix_cli.reference_level import convert_reference_level
+
+        data, notes = convert_reference_level(data, str(path))
+        for note in notes:
+            warnings.warn(f"{path}: {note}", ConversionWarning, stacklevel=2)
     return parse_level(data, str(path))
 
 
