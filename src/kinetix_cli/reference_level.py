@@ -449,7 +449,7 @@ class _Converter:
             return
         n = len(shapes)
         linked = np.eye(n, dtype=bool)
-        for k, joint in enumerate(joints):
+        for joint in joints:
             if joint["active"]:
                 a, b = joint["a_index"], joint["b_index"]
                 if 0 <= a < n and 0 <= b < n:
