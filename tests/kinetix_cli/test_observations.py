@@ -105,7 +105,7 @@ def test_entity_masks(chain):
     assert obs.thruster_mask.tolist() == [True, False]
     assert obs.thruster_body[0] == 7
     assert not obs.polygons[1:4].any() and not obs.polygons[5].any()  # walls, ceiling, empty slot are zero
-    np.testing.assert_allclose(obs.polygons[[0, 4], 26], 0.5)  # collision mode 1 / 2
+    np.testing.assert_allclose(obs.polygons[[0, 4], 26], [1.0, 0.5])  # collision mode / 2: floor 2, box 1
     np.testing.assert_allclose(obs.circles[:, 18], 0.5)
     np.testing.assert_allclose(obs.gravity, (0.0, -0.981), atol=1e-6)
 
