@@ -148,19 +148,9 @@ def _write_bench_json(json_path: Path | None, config, results) -> None:
 
 
 def _level_paths(paths: list[Path]) -> list[Path]:
-    """Expand folders into their *.json files (sorted); missing paths are an error."""
-    files: list[Path] = []
-    for path in paths:
-        if path.is_dir():
-            found = sorted(path.rglob("*.json"))
-            if not found:
-                raise UserError(f"{path}: no level files (*.json) in this folder")
-            files += found
-        elif path.exists():
-            files.append(path)
-        else:
-            raise UserError(f"{path}: no such file or folder")
-    return files
+    from kinetix_cli.level_file import level_paths
+
+    return level_paths(paths)
 
 
 @app.command("import")
@@ -363,9 +353,14 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
     with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
         task = bar.add_task("train", total=p.num_updates * p.batch_size, info="levels and compile...")
 
+        last_eval = ""
+
         def report(r: dict) -> None:
+            nonlocal last_eval
+            if "eval_solve_rate" in r:
+                last_eval = f", eval {r['eval_solve_rate']:.0%}"
             info = f"{r['steps']:,} steps, {r['sps']:,.0f} SPS, return {r['return']:+.2f}"
-            info += f", solve rate {r['solve_rate']:.0%}"
+            info += f", solve rate {r['solve_rate']:.0%}{last_eval}"
             bar.update(task, completed=r["steps"], info=info)
 
         train(experiment, run_dir, resume=resume, progress=report, init_params=init_params)
@@ -397,6 +392,7 @@ def finetune(
         raise UserError(f"finetune: the levels have sizes {', '.join(sorted(sizes))}; give levels of one size")
     listed = "[" + ", ".join(str(path) for path in files) + "]"
     settings = [f"env.size={sizes.pop()}", "levels.source=files", f"levels.files={listed}"]
+    settings += [f"run.eval_levels={listed}"]  # evaluate on the fine-tuning levels, unless --set says otherwise
     experiment = load_config(config, [*settings, *overrides])
     params = None
     if source != "none":

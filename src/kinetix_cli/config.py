@@ -185,9 +185,11 @@ class RunSettings:
     Attributes:
         seed: PRNG seed of the whole run (levels, policy sampling, initial parameters).
         checkpoint_every: save a checkpoint every this many updates [updates]; 0 saves only at the end.
-        eval_every: evaluate every this many updates [updates]; 0 never. NOT USED YET: training does not
-            evaluate on hand-made levels; run `kinetix eval` on the run directory.
-        eval_attempts: stochastic attempts per evaluation level (not used yet, see eval_every).
+        eval_every: evaluate the policy on `eval_levels` every this many updates, and after the last one
+            [updates]; 0 never. The solve rate goes into metrics.jsonl as `eval_solve_rate` (mean over levels).
+        eval_attempts: stochastic attempts per evaluation level.
+        eval_levels: level files or folders to evaluate on during training (e.g. levels/s); empty: no evaluation.
+            `kinetix finetune` sets it to its fine-tuning levels (a `--set run.eval_levels=...` still wins).
         wandb: Weights & Biases logging: 'off' (default), 'offline' (local files to sync later) or 'online'.
         init_from: checkpoint to load the initial parameters from (fine-tuning), or null to start from scratch.
     """
@@ -196,6 +198,7 @@ class RunSettings:
     checkpoint_every: int = 100
     eval_every: int = 100
     eval_attempts: int = 20
+    eval_levels: tuple[str, ...] = ()
     wandb: WandbMode = "off"
     init_from: str | None = None
 

@@ -82,51 +82,67 @@ class LevelResult:
     mean_length: float
 
 
+class Evaluator:
+    """Plays a policy on a fixed list of level files. Built once (files loaded, levels batched per size, one
+    jitted rollout per size), then called with parameters as often as needed: `kinetix eval` calls it once,
+    training calls it every `run.eval_every` updates without recompiling."""
+
+    def __init__(self, config: ExperimentConfig, files: list[Path], attempts: int):
+        from kinetix_cli.level_file import load_level
+        from kinetix_cli.train import network_for
+
+        self.attempts = attempts
+        flat = config.env.observation != "symbolic-entity"
+        by_size: dict[str, list] = {}
+        for path in files:
+            spec = load_level(path)
+            size = next(name for name, s in SIZES.items() if s == spec.default_static())
+            if flat and size != config.env.size:
+                raise UserError(
+                    f"{path}: a size-{size} level; this policy reads {config.env.observation} observations of size "
+                    f"{config.env.size} only"
+                )
+            by_size.setdefault(size, []).append((path, spec))
+        apply_fn = network_for(config).apply
+        env_params = EnvParams(max_steps=config.env.max_steps, dense_reward_scale=config.env.dense_reward_scale)
+        self._groups = []
+        for size, entries in by_size.items():
+            static = SIZES[size]
+            levels = stack_levels([spec.build(static) for _, spec in entries])
+            env = KinetixEnv(
+                EnvConfig(static, observation=config.env.observation, action=config.env.action),
+                reset_to(jax.tree.map(lambda x: x[0], levels)),
+            )
+            repeated = jax.tree.map(lambda x: jnp.repeat(jnp.asarray(x), attempts, axis=0), levels)
+            play = jax.jit(functools.partial(_play, env, env_params, config.env.max_steps, apply_fn))
+            self._groups.append((size, [path for path, _ in entries], repeated, play))
+
+    def __call__(self, params, seed: int = 0) -> list[LevelResult]:
+        """`attempts` sampled episodes of every level with the policy `params`; one result per level file."""
+        results = []
+        for size, paths, levels, play in self._groups:
+            keys = jax.random.split(jax.random.key(seed), len(paths) * self.attempts)
+            outcome = jax.device_get(play(params, levels, keys))
+            for i, path in enumerate(paths):
+                rows = slice(i * self.attempts, (i + 1) * self.attempts)
+                results.append(
+                    LevelResult(
+                        level=str(path),
+                        suite=Path(path).parent.name,
+                        size=size,
+                        solve_rate=float(np.mean(outcome.solved[rows])),
+                        mean_return=float(np.mean(outcome.total_return[rows])),
+                        mean_length=float(np.mean(outcome.length[rows])),
+                    )
+                )
+        return results
+
+
 def evaluate(config: ExperimentConfig, params, files: list[Path], attempts: int, seed: int = 0) -> list[LevelResult]:
     """Play `attempts` episodes of every level file with the policy; one batched rollout per size."""
-    from kinetix_cli.level_file import load_level
-    from kinetix_cli.train import network_for
-
-    network = network_for(config)
-    flat = config.env.observation != "symbolic-entity"
-    by_size: dict[str, list] = {}
-    for path in files:
-        spec = load_level(path)
-        size = next(name for name, s in SIZES.items() if s == spec.default_static())
-        if flat and size != config.env.size:
-            raise UserError(
-                f"{path}: a size-{size} level; this policy reads {config.env.observation} observations of size "
-                f"{config.env.size} only"
-            )
-        by_size.setdefault(size, []).append((path, spec))
-    results = []
-    for size, entries in by_size.items():
-        static = SIZES[size]
-        levels = stack_levels([spec.build(static) for _, spec in entries])
-        env = KinetixEnv(
-            EnvConfig(static, observation=config.env.observation, action=config.env.action),
-            reset_to(jax.tree.map(lambda x: x[0], levels)),
-        )
-        env_params = EnvParams(max_steps=config.env.max_steps, dense_reward_scale=config.env.dense_reward_scale)
-        repeated = jax.tree.map(lambda x: jnp.repeat(jnp.asarray(x), attempts, axis=0), levels)
-        keys = jax.random.split(jax.random.key(seed), len(entries) * attempts)
-        outcome = jax.device_get(_play(env, env_params, config.env.max_steps, network.apply, params, repeated, keys))
-        for i, (path, _) in enumerate(entries):
-            rows = slice(i * attempts, (i + 1) * attempts)
-            results.append(
-                LevelResult(
-                    level=str(path),
-                    suite=Path(path).parent.name,
-                    size=size,
-                    solve_rate=float(np.mean(outcome.solved[rows])),
-                    mean_return=float(np.mean(outcome.total_return[rows])),
-                    mean_length=float(np.mean(outcome.length[rows])),
-                )
-            )
-    return results
+    return Evaluator(config, files, attempts)(params, seed)
 
 
-@functools.partial(jax.jit, static_argnums=(0, 2, 3))
 def _play(env: KinetixEnv, env_params: EnvParams, horizon: int, apply_fn, params, levels: Level, keys) -> Outcome:
     episode = functools.partial(policy_episode, env, env_params, horizon, apply_fn, params)
     return jax.vmap(episode)(levels, keys)

@@ -125,6 +125,23 @@ def _format(value: Any, depth: int) -> str:
     return "{\n" + ",\n".join(items) + "\n" + pad + "}"
 
 
+def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
+    """Level files named by `paths`, with folders expanded into their *.json files (sorted, recursively).
+    A missing path or a folder without level files is a `UserError`."""
+    files: list[Path] = []
+    for path in map(Path, paths):
+        if path.is_dir():
+            found = sorted(path.rglob("*.json"))
+            if not found:
+                raise UserError(f"{path}: no level files (*.json) in this folder")
+            files += found
+        elif path.exists():
+            files.append(path)
+        else:
+            raise UserError(f"{path}: no such file or folder")
+    return files
+
+
 def load_level(path: str | Path) -> LevelSpec:
     """Read and validate a level file. Raises `LevelError` with the file, entity and field.
 

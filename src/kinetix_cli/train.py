@@ -4,7 +4,8 @@ loops PPO updates (`kinetix_cli.ppo`) with metrics, checkpoints and resume.
 A run directory holds:
 - `config.yaml`: the resolved experiment config (`kinetix-experiment/1`);
 - `versions.json`: library versions and machine;
-- `metrics.jsonl`: one JSON object per update (update, env steps, SPS, return, solve rate, losses);
+- `metrics.jsonl`: one JSON object per update (update, env steps, SPS, return, solve rate, losses; every
+  `run.eval_every` updates also `eval_solve_rate` and `eval_return` on `run.eval_levels`);
 - `checkpoints/<update>/`: orbax checkpoints of the whole training state (parameters, optimiser, environments,
   PRNG key), every `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one
   and, because the whole state is saved, reaches the same parameters as an uninterrupted run.
@@ -129,6 +130,7 @@ def train(
     run_dir = Path(run_dir)
     if not resume and run_dir.exists() and any(run_dir.iterdir()):
         raise UserError(f"--run-dir {run_dir}: not empty; pass --resume to continue it or choose a new folder")
+    evaluator = _evaluator(config)  # bad evaluation levels fail here, before anything is written
     run_dir.mkdir(parents=True, exist_ok=True)
     saved = run_dir / "config.yaml"
     if resume and saved.exists() and load_config(saved) != config:
@@ -177,6 +179,8 @@ def train(
             seconds = time.perf_counter() - tic
             record = {"update": u + 1, "steps": (u + 1) * steps_per_update, "sps": steps_per_update / seconds}
             record |= metrics
+            if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or u + 1 == p.num_updates):
+                record |= _evaluation(evaluator, runner.params, config.run.seed)
             log.write(json.dumps(record) + "\n")
             log.flush()
             every = config.run.checkpoint_every
@@ -190,6 +194,26 @@ def train(
     if logger is not None:
         logger.finish()
     return runner
+
+
+def _evaluator(config: ExperimentConfig):
+    """The evaluator of `run.eval_levels` (loaded and compiled once), or None when training does not evaluate."""
+    if not (config.run.eval_every and config.run.eval_levels):
+        return None
+    from kinetix_cli.evaluate import Evaluator
+    from kinetix_cli.level_file import level_paths
+
+    return Evaluator(config, level_paths(config.run.eval_levels), config.run.eval_attempts)
+
+
+def _evaluation(evaluator, params, seed: int) -> dict:
+    """Mean solve rate and return over the evaluation levels, for the metrics record. The sampling seed is the
+    run's, so a resumed run evaluates exactly as an uninterrupted one."""
+    results = evaluator(params, seed)
+    return {
+        "eval_solve_rate": float(np.mean([r.solve_rate for r in results])),
+        "eval_return": float(np.mean([r.mean_return for r in results])),
+    }
 
 
 def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):

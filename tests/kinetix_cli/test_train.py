@@ -24,6 +24,9 @@ TINY = [
     "ppo.update_epochs=1",
     "ppo.total_timesteps=384",  # 6 updates
     "run.checkpoint_every=2",
+    "run.eval_every=4",  # at update 4 and after the last (6)
+    "run.eval_levels=[levels/s/rocket-car-jump.json]",
+    "run.eval_attempts=3",
 ]
 
 
@@ -54,6 +57,27 @@ def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny):
     lines = [json.loads(x) for x in (tmp_path / "cut" / "metrics.jsonl").read_text().splitlines()]
     assert [x["update"] for x in lines] == [1, 2, 3, 4, 5, 6]
     assert {"steps", "sps", "return", "solve_rate", "policy_loss", "value_loss", "entropy"} <= set(lines[0])
+    uncut = [json.loads(x) for x in (tmp_path / "whole" / "metrics.jsonl").read_text().splitlines()]
+    evaluated = [(x["update"], x["eval_solve_rate"], x["eval_return"]) for x in lines if "eval_solve_rate" in x]
+    assert [e[0] for e in evaluated] == [4, 6]
+    assert evaluated == [(x["update"], x["eval_solve_rate"], x["eval_return"]) for x in uncut if "eval_return" in x]
+
+
+def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tmp_path, tiny):
+    from kinetix_cli.evaluate import evaluate
+
+    config, pool = tiny
+    runner = train(config, tmp_path / "run", pool=pool)
+    last = json.loads((tmp_path / "run" / "metrics.jsonl").read_text().splitlines()[-1])
+    (result,) = evaluate(config, runner.params, ["levels/s/rocket-car-jump.json"], 3, seed=config.run.seed)
+    assert last["eval_solve_rate"] == result.solve_rate and last["eval_return"] == result.mean_return
+
+
+def test_missing_evaluation_levels_fail_before_training(tmp_path, tiny):
+    config = load_config("experiments/cpu-small.yaml", [*TINY, "run.eval_levels=[levels/nowhere]"])
+    with pytest.raises(UserError, match="levels/nowhere: no such file"):
+        train(config, tmp_path / "run", pool=tiny[1])
+    assert not (tmp_path / "run" / "metrics.jsonl").exists()
 
 
 def test_refuses_to_overwrite_a_run(tmp_path, tiny):
