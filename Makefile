@@ -66,7 +66,7 @@ format: $(STAMP)
 	$(BIN)/ruff format src tests
 	$(BIN)/ruff check --fix src tests
 
-test: lint reference-levels
+test: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest -m "not slow" $(PYTEST_FLAGS)
 
 test-all: lint reference-levels $(CMP_STAMP)

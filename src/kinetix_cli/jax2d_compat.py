@@ -119,3 +119,87 @@ def build_jax2d_state(scene: Scene, static: Static):
             state, int(th.body[t]), np.asarray(th.anchor[t]), float(th.angle[t]), float(th.power[t])
         )
     return state
+
+
+# --- reference-format level files <-> Jax2D states (the reference's own reading of a level, for comparisons) ---
+
+
+def _plain(value):
+    """A reference JSON value with its vectors (`{"0": x, "1": y}`) turned into lists, recursively."""
+    if isinstance(value, dict) and value and all(k.isdigit() for k in value):
+        return [_plain(value[str(i)]) for i in range(len(value))]
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _json(value):
+    """The inverse of `_plain` for one array: vectors as `{"0": x, ...}` dicts, scalars as Python numbers."""
+    value = np.asarray(value)
+    if value.ndim == 0:
+        return value.item()
+    return {str(i): _json(v) for i, v in enumerate(value)}
+
+
+def jax2d_from_reference(data: dict):
+    """(SimState, SimParams, StaticSimParams) of a reference-format level (`{"env_state", "env_params",
+    "static_env_params"}`): Jax2D's own reading of the file, slot for slot. Warm-start caches start empty."""
+    j2d = _import()
+    counts = data["static_env_params"]
+    ssp = j2d["StaticSimParams"](
+        **{k: counts[k] for k in ("num_polygons", "num_circles", "num_joints", "num_thrusters")},
+        num_solver_iterations=counts.get("num_solver_iterations", 10),
+    )
+    state = j2d["create_empty_sim"](ssp)
+    env = data["env_state"]
+
+    def entities(template, entries):
+        fields = {}
+        for name in template.__dataclass_fields__:
+            like = np.asarray(getattr(template, name))
+            fields[name] = np.asarray([_plain(e[name]) for e in entries], like.dtype).reshape(like.shape)
+        return template.replace(**fields)
+
+    state = state.replace(
+        polygon=entities(state.polygon, env["polygon"]),
+        circle=entities(state.circle, env["circle"]),
+        joint=entities(state.joint, env["joint"]),
+        thruster=entities(state.thruster, env["thruster"]),
+        collision_matrix=np.asarray(_plain(env["collision_matrix"]), bool),
+        gravity=np.asarray(_plain(env["gravity"]), np.float32),
+    )
+    known = j2d["SimParams"].__dataclass_fields__
+    params = j2d["SimParams"](**{k: v for k, v in data["env_params"].items() if k in known})
+    return state, params, ssp
+
+
+def reference_from_jax2d(state, template: dict, roles=(), densities=()) -> dict:
+    """A reference-format level holding a Jax2D `state` (how the reference saves its levels): `template` gives
+    `env_params` and `static_env_params`; `roles` and `densities` are per body slot (polygons then circles,
+    default role 0 and density 1); every motor and thruster gets binding 0."""
+    num_polygons = int(np.asarray(state.polygon.active).shape[0])
+
+    def entities(batch, extra):
+        rows = []
+        for i in range(np.asarray(batch.active).shape[0]):
+            row = {name: _json(np.asarray(getattr(batch, name))[i]) for name in batch.__dataclass_fields__}
+            rows.append(row | extra(i))
+        return rows
+
+    def body(offset):
+        def extra(i):
+            slot = offset + i
+            role = roles[slot] if slot < len(roles) else 0
+            return {"role": role, "density": densities[slot] if slot < len(densities) else 1.0, "highlighted": False}
+
+        return extra
+
+    env_state = {
+        "polygon": entities(state.polygon, body(0)),
+        "circle": entities(state.circle, body(num_polygons)),
+        "joint": entities(state.joint, lambda i: {"motor_binding": 0}),
+        "thruster": entities(state.thruster, lambda i: {"thruster_binding": 0}),
+        "collision_matrix": _json(state.collision_matrix),
+        "gravity": _json(state.gravity),
+    }
+    return {"env_state": env_state, **{k: template[k] for k in ("env_params", "static_env_params")}}
