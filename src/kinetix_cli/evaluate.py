@@ -128,7 +128,7 @@ class Evaluator:
                 results.append(
                     LevelResult(
                         level=str(path),
-                        suite=Path(path).parent.name,
+                        suite=str(Path(path).parent),
                         size=size,
                         solve_rate=float(np.mean(outcome.solved[rows])),
                         mean_return=float(np.mean(outcome.total_return[rows])),

@@ -5,6 +5,8 @@ Imports jax2d lazily: the rest of the toolkit never needs it.
 
 from __future__ import annotations
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from engine.config import NUM_ARENA_POLYGONS, Static
@@ -170,7 +172,7 @@ def jax2d_from_reference(data: dict):
     )
     known = j2d["SimParams"].__dataclass_fields__
     params = j2d["SimParams"](**{k: v for k, v in data["env_params"].items() if k in known})
-    return state, params, ssp
+    return jax.tree.map(jnp.asarray, state), params, ssp
 
 
 def reference_from_jax2d(state, template: dict, roles=(), densities=()) -> dict:

@@ -4,6 +4,7 @@ does, bit for bit."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import jax
 import numpy as np
@@ -129,6 +130,24 @@ def test_eval_finetune_and_rollout_from_a_run(tmp_path, tiny_run):
     gif = tmp_path / "run.gif"
     result = runner.invoke(app, ["rollout", level, "--policy", str(tiny_run), "-o", str(gif)])
     assert result.exit_code == 0 and gif.stat().st_size > 0, result.output
+
+
+def test_eval_scores_the_reference_levels_converting_on_load(tmp_path, tiny_run):
+    """`kinetix eval --levels` takes a folder of reference-format levels (the paper's hold-out suite) as it is."""
+    from typer.testing import CliRunner
+
+    from kinetix_cli.cli import app
+
+    suite = Path(__file__).resolve().parents[2] / ".cache" / "reference-levels" / "s"
+    if not suite.is_dir():
+        pytest.fail(f"{suite} is missing: run `make reference-levels` (make test does)")
+    out = tmp_path / "eval.json"
+    result = CliRunner().invoke(
+        app, ["eval", str(tiny_run), "--levels", str(suite), "--attempts", "2", "--json", str(out)]
+    )
+    assert result.exit_code == 0, result.output
+    report = json.loads(out.read_text())
+    assert len(report["levels"]) == 10 and report["suites"][str(suite)]["levels"] == 10
 
 
 def test_eval_of_something_that_is_not_a_run(tmp_path, monkeypatch, capsys):
