@@ -60,39 +60,47 @@ def _empty():
     return empty.replace(polygon=arena), ssp
 
 
+_JAX2D_STEP = PhysicsEngine(jax2d_static(STATIC)).step  # built outside any trace (it computes its pair tables)
+
+
+@jax.jit
+def _run_theirs(state, params, actions):
+    """60 Jax2D steps; per step (position, rotation, angular velocity) of polygons then circles. Compiled once for
+    every test (the scenes share the size; parameters and actions are traced)."""
+
+    def body(s, _):
+        s = _JAX2D_STEP(s, params, actions)[0]
+        both = jax.tree.map(lambda p, c: jnp.concatenate([p, c]), s.polygon, s.circle)
+        return s, (both.position, both.rotation, both.angular_velocity)
+
+    return jax.lax.scan(body, state, None, STEPS)[1]
+
+
+@jax.jit
+def _run_ours(state, params, actions):
+    """60 steps of our engine, recorded as `_run_theirs` does."""
+
+    def body(s, _):
+        s = engine.step(STATIC, params, s, actions)[0]
+        return s, (s.bodies.position, s.bodies.angle, s.bodies.angular_velocity)
+
+    return jax.lax.scan(body, state, None, STEPS)[1]
+
+
 def _both(state, actions, densities=()) -> tuple[dict, dict, list]:
     """Save `state` as a reference level, then step it 60 times in Jax2D (read from the file) and in our engine
     (converted); `densities` per body slot as in `reference_from_jax2d`. Returns per-step position (N, 2),
     angle (N,) and angular velocity (N,) of both engines, and the conversion notes."""
     data = json.loads(json.dumps(reference_from_jax2d(state, _template(), densities=densities)))  # as text
     theirs_state, theirs_params, ssp = jax2d_from_reference(data)
-    step_theirs = PhysicsEngine(ssp).step
+    assert ssp == jax2d_static(STATIC)
     converted, notes = convert_reference_level(data, "scene.json")
     spec = parse_level(converted, "scene.json")
-    level = spec.build(STATIC)
-    params = spec.engine_params()
+    level = jax.tree.map(jnp.asarray, spec.build(STATIC))
     actions = jnp.asarray(actions, jnp.float32)
-
-    @jax.jit
-    def run_theirs(s):
-        def body(s, _):
-            s = step_theirs(s, theirs_params, actions)[0]
-            both = jax.tree.map(lambda p, c: jnp.concatenate([p, c]), s.polygon, s.circle)
-            return s, (both.position, both.rotation, both.angular_velocity)
-
-        return jax.lax.scan(body, s, None, STEPS)[1]
-
-    @jax.jit
-    def run_ours(s):
-        def body(s, _):
-            s = engine.step(STATIC, params, s, actions)[0]
-            return s, (s.bodies.position, s.bodies.angle, s.bodies.angular_velocity)
-
-        return jax.lax.scan(body, s, None, STEPS)[1]
-
     keys = ("position", "angle", "omega")
-    theirs = dict(zip(keys, map(np.asarray, run_theirs(theirs_state)), strict=True))
-    ours = dict(zip(keys, map(np.asarray, run_ours(jax.tree.map(jnp.asarray, level.physics))), strict=True))
+    theirs = dict(zip(keys, map(np.asarray, _run_theirs(theirs_state, theirs_params, actions)), strict=True))
+    ours = dict(zip(keys, map(np.asarray, _run_ours(level.physics, spec.engine_params(), actions)), strict=True))
     return theirs, ours, notes
 
 
