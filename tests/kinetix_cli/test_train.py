@@ -25,10 +25,10 @@ TINY = [
     "ppo.update_epochs=1",
     "ppo.total_timesteps=384",  # 6 updates
     "run.checkpoint_every=2",
-    "run.eval_every=4",  # at update 4 and after the last (6)
-    "run.eval_levels=[levels/s/rocket-car-jump.json]",
-    "run.eval_attempts=3",
+    "run.eval_every=0",  # no evaluation during training (each evaluator is one more compile), except in EVAL
 ]
+# Evaluation during training at update 4 and after the last (6), on one level.
+EVAL = ["run.eval_every=4", "run.eval_levels=[levels/s/rocket-car-jump.json]", "run.eval_attempts=3"]
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +42,8 @@ class Crash(Exception):
 
 
 def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny):
-    config, pool = tiny
+    _, pool = tiny
+    config = load_config("experiments/cpu-small.yaml", [*TINY, *EVAL])
     whole = train(config, tmp_path / "whole", pool=pool)
 
     def crash_after_3(record):
@@ -67,7 +68,8 @@ def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny):
 def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tmp_path, tiny):
     from kinetix_cli.evaluate import evaluate
 
-    config, pool = tiny
+    _, pool = tiny
+    config = load_config("experiments/cpu-small.yaml", [*TINY, *EVAL])
     runner = train(config, tmp_path / "run", pool=pool)
     last = json.loads((tmp_path / "run" / "metrics.jsonl").read_text().splitlines()[-1])
     (result,) = evaluate(config, runner.params, ["levels/s/rocket-car-jump.json"], 3, seed=config.run.seed)
@@ -75,7 +77,7 @@ def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tmp_path, 
 
 
 def test_missing_evaluation_levels_fail_before_training(tmp_path, tiny):
-    config = load_config("experiments/cpu-small.yaml", [*TINY, "run.eval_levels=[levels/nowhere]"])
+    config = load_config("experiments/cpu-small.yaml", [*TINY, *EVAL, "run.eval_levels=[levels/nowhere]"])
     with pytest.raises(UserError, match="levels/nowhere: no such file"):
         train(config, tmp_path / "run", pool=tiny[1])
     assert not (tmp_path / "run" / "metrics.jsonl").exists()
