@@ -128,6 +128,7 @@ def test_eval_finetune_and_rollout_from_a_run(tmp_path, tiny_run):
     result = runner.invoke(app, [*args, *sets])
     assert result.exit_code == 0, result.output
     assert (tuned / "checkpoints" / "6").is_dir()
+    assert load_config(tuned / "config.yaml").run.eval_levels == (level,)  # finetune evaluates on its own levels
 
     gif = tmp_path / "run.gif"
     result = runner.invoke(app, ["rollout", level, "--policy", str(tiny_run), "-o", str(gif)])
