@@ -28,7 +28,11 @@ from engine.pairs import pair_table
 from engine.state import Bodies, ContactCache, Joints, State, Thrusters
 
 ARENA_NAMES = ("floor", "left wall", "right wall", "ceiling")
-# (centre, full size) of the static arena boxes; the playable box is x in [0, 5], y in [0.4, 5].
+ARENA_LEFT, ARENA_RIGHT = 0.0, 5.0
+"""World x of the inner faces of the left and right walls [m]."""
+FLOOR_TOP, ARENA_TOP = 0.4, 5.0
+"""World y of the floor's top face and of the ceiling's inner face [m]."""
+# (centre, full size) of the static arena boxes around the playable box above.
 _ARENA_BOXES = (
     ((2.5, -4.8), (15.0, 10.4)),
     ((-2.5, 5.0), (5.0, 10.0)),

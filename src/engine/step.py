@@ -3,7 +3,8 @@
     gravity -> motors -> thrusters -> collide -> prepare contacts and joints -> warm start
     -> solve velocities (Gauss-Seidel) -> store impulses -> integrate positions -> correct joint drift -> clip
 
-`step(static, params, state, actions)` is pure; jit it with `static` static, vmap it over scenes.
+`step(static, params, state, actions)` is pure; jit it with `static` static, vmap it over scenes. Each phase runs
+under a `jax.named_scope` of its name, so profiles (and HLO dumps) name the phases.
 """
 
 from __future__ import annotations
@@ -75,49 +76,63 @@ def step(static: Static, params: Params, state: State, actions: jax.Array) -> tu
         actions: (J + T,) motor actions in [-1, 1] for each joint, then thruster actions in [0, 1].
     """
     bodies = state.bodies
-    inv_mass, inv_inertia = mass_properties(bodies, static.num_polygons)
-    inv_mass3 = jnp.stack([inv_mass, inv_mass, inv_inertia], axis=-1)
+    with jax.named_scope("mass_properties"):
+        inv_mass, inv_inertia = mass_properties(bodies, static.num_polygons)
+        inv_mass3 = jnp.stack([inv_mass, inv_mass, inv_inertia], axis=-1)
+        v3 = pack_velocities(bodies)
 
-    v3 = pack_velocities(bodies)
-    v3 = apply_gravity(params, state, inv_mass, v3)
-    v3 = apply_motors(static, params, state, actions[: static.num_joints], inv_inertia, v3)
-    v3 = apply_thrusters(static, params, state, actions[static.num_joints :], inv_mass, inv_inertia, v3)
+    with jax.named_scope("gravity"):
+        v3 = apply_gravity(params, state, inv_mass, v3)
+    with jax.named_scope("motors"):
+        v3 = apply_motors(static, params, state, actions[: static.num_joints], inv_inertia, v3)
+    with jax.named_scope("thrusters"):
+        v3 = apply_thrusters(static, params, state, actions[static.num_joints :], inv_mass, inv_inertia, v3)
 
-    margins = speculative_margins(static, bodies, v3, params.speculative_distance, params.dt)
-    manifold = collide(static, bodies, margins)
-    table = pair_table(static)
-    collidable = collidable_pairs(static, bodies, state.joints)[table.point_pair]
-    body_movable = inv_mass3.sum(-1) > 0
-    movable = body_movable[table.a[table.point_pair]] | body_movable[table.b[table.point_pair]]
-    contacts, dropped = prepare_contacts(
-        static, params, bodies, inv_mass3, v3, manifold, manifold.valid & collidable & movable, state.contacts
-    )
-    joints = prepare_joints(static, params, bodies, state.joints, inv_mass, inv_inertia)
+    with jax.named_scope("collide"):
+        margins = speculative_margins(static, bodies, v3, params.speculative_distance, params.dt)
+        manifold = collide(static, bodies, margins)
+        table = pair_table(static)
+        collidable = collidable_pairs(static, bodies, state.joints)[table.point_pair]
+        body_movable = inv_mass3.sum(-1) > 0
+        movable = body_movable[table.a[table.point_pair]] | body_movable[table.b[table.point_pair]]
+    with jax.named_scope("prepare_contacts"):
+        contacts, dropped = prepare_contacts(
+            static, params, bodies, inv_mass3, v3, manifold, manifold.valid & collidable & movable, state.contacts
+        )
+    with jax.named_scope("prepare_joints"):
+        joints = prepare_joints(static, params, bodies, state.joints, inv_mass, inv_inertia)
 
-    v3 = warm_start_joints(joints, v3)
-    v3 = warm_start_contacts(contacts, v3)
-    v3, impulses = solve_velocities(static, contacts, joints, v3)
+    with jax.named_scope("warm_start"):
+        v3 = warm_start_joints(joints, v3)
+        v3 = warm_start_contacts(contacts, v3)
+    with jax.named_scope("solve_velocities"):
+        v3, impulses = solve_velocities(static, contacts, joints, v3)
 
-    cache = store_contact_impulses(
-        static,
-        contacts,
-        manifold,
-        stack_values(impulses.contact_normal, contacts.normal_impulse),
-        stack_values(impulses.contact_tangent, contacts.tangent_impulse),
-    )
-    new_joints = state.joints.replace(
-        impulse=stack_values(impulses.joint_point, joints.impulse),
-        angular_impulse=stack_values(impulses.joint_angle, joints.angular_impulse),
-        lower_impulse=stack_values(impulses.joint_lower, joints.lower_impulse),
-        upper_impulse=stack_values(impulses.joint_upper, joints.upper_impulse),
-    )
+    with jax.named_scope("store_impulses"):
+        cache = store_contact_impulses(
+            static,
+            contacts,
+            manifold,
+            stack_values(impulses.contact_normal, contacts.normal_impulse),
+            stack_values(impulses.contact_tangent, contacts.tangent_impulse),
+        )
+        new_joints = state.joints.replace(
+            impulse=stack_values(impulses.joint_point, joints.impulse),
+            angular_impulse=stack_values(impulses.joint_angle, joints.angular_impulse),
+            lower_impulse=stack_values(impulses.joint_lower, joints.lower_impulse),
+            upper_impulse=stack_values(impulses.joint_upper, joints.upper_impulse),
+        )
 
-    bodies = integrate_positions(params, bodies, v3, inv_mass, inv_inertia)
-    bodies = correct_joint_positions(static, params, bodies, new_joints, inv_mass, inv_inertia)
-    bodies = clip_state(params, bodies)
+    with jax.named_scope("integrate_positions"):
+        bodies = integrate_positions(params, bodies, v3, inv_mass, inv_inertia)
+    with jax.named_scope("correct_joint_positions"):
+        bodies = correct_joint_positions(static, params, bodies, new_joints, inv_mass, inv_inertia)
+    with jax.named_scope("clip"):
+        bodies = clip_state(params, bodies)
 
-    touch_points = manifold.valid & collidable & (manifold.separation <= params.touch_distance)
-    touching = jnp.zeros(table.num_pairs, bool).at[jnp.asarray(table.point_pair)].max(touch_points)
+    with jax.named_scope("touching"):
+        touch_points = manifold.valid & collidable & (manifold.separation <= params.touch_distance)
+        touching = jnp.zeros(table.num_pairs, bool).at[jnp.asarray(table.point_pair)].max(touch_points)
     new_state = state.replace(bodies=bodies, joints=new_joints, contacts=cache)
     return new_state, StepInfo(touching=touching, dropped_contacts=dropped)
 

@@ -12,7 +12,8 @@ key and what was expected:
     experiments/x.yaml: ppo.lr: expected a number, got 'fast' (str)
 
 Numbers may be written `5e-5` or `1e6` (PyYAML alone reads those as strings); an integral float such as `5e9` is
-accepted for an integer field. Deliberately free of jax imports: loading a config is instant.
+accepted for an integer field. The choices of the string fields come from `engine.SIZES` and
+`kinetix_cli.constants`, so they cannot drift from what the environment and the networks accept.
 """
 
 from __future__ import annotations
@@ -28,18 +29,26 @@ from typing import Any, Literal, Union
 
 import yaml
 
+from engine import SIZES
+from kinetix_cli.constants import (
+    ACTION_TYPES,
+    EXPERIMENT_FORMAT,
+    MODEL_NAMES,
+    MODEL_OBSERVATIONS,
+    NUM_ATTENTION_CHANNELS,
+    OBSERVATION_TYPES,
+)
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_text
 
-CONFIG_FORMAT = "kinetix-experiment/1"
+CONFIG_FORMAT = EXPERIMENT_FORMAT
 CONFIG_FILENAME = "config.yaml"  # the resolved config saved in every run directory
 
-# The choices of the string fields. `env.OBSERVATION_TYPES`, `actions.ACTION_TYPES` and `engine.SIZES` hold the
-# same names (a test checks); they are repeated here so that this module does not import jax.
-Size = Literal["s", "m", "l"]
-Observation = Literal["symbolic-entity", "symbolic-flat", "pixels"]
-ActionKind = Literal["multi-discrete", "discrete", "continuous"]
-ModelName = Literal["transformer", "pi-mlp", "flat-mlp"]
+# The choices of the string fields (a tuple subscript spells out a Literal of its items).
+Size = Literal[tuple(SIZES)]
+Observation = Literal[OBSERVATION_TYPES]
+ActionKind = Literal[ACTION_TYPES]
+ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
 LevelSource = Literal["generated", "levelset", "files"]
 
@@ -56,13 +65,15 @@ class EnvSettings:
         size: entity capacities 's', 'm' or 'l' (polygons/circles/joints/thrusters 5/2/1/1, 6/3/2/2, 12/4/6/2).
             Levels smaller than the size are padded up; a level too big for it is an error.
         observation: 'symbolic-entity' (per-entity features and attention masks; for 'transformer' and 'pi-mlp'),
-            'symbolic-flat' (one vector) or 'pixels' (125 x 125 RGB + gravity).
+            'symbolic-flat' (one vector) or 'pixels' (125 x 125 RGB); `constants.MODEL_OBSERVATIONS` says which
+            model reads which.
         action: 'multi-discrete' (per binding: motor off/+1/-1, thruster off/on), 'discrete' (11 choices, one
             actuator at a time) or 'continuous' (6 values).
         dense_reward_scale: weight of the shaping term -(d_t - d_{t-1}) added to the reward, with d the summed
             green-blue centre distance [reward per metre]; 0 turns shaping off. (The reference configs use 0.2.)
         frame_skip: engine steps (dt = 1/60 s each) per environment step; the action is held for all of them.
-        max_steps: episode cap [environment steps]; 256 at frame_skip 2 is ~8.5 s. Timeouts count as terminal.
+        max_steps: episode cap [environment steps]; 256 at frame_skip 2 is ~8.5 s. A timeout truncates the episode
+            (PPO bootstraps from the value of its last observation); it is not a failure.
     """
 
     size: Size = "m"
@@ -90,7 +101,8 @@ class ModelSettings:
         width: hidden width of the entity encoders, transformer embedding and actor/critic layers [units].
         actor_critic_layers: hidden layers (tanh) in each of the actor and critic heads.
         transformer_layers: transformer blocks ('transformer' only).
-        heads: attention heads per block ('transformer' only); the head size is width / heads (128 / 8 = 16).
+        heads: attention heads per block ('transformer' only): a multiple of 4 (each of the 4 attention-mask
+            channels drives heads / 4 of them); the head size is width / heads (128 / 8 = 16).
     """
 
     name: ModelName = "transformer"
@@ -105,6 +117,10 @@ class ModelSettings:
             _require(self, name, getattr(self, name) >= 1, "must be >= 1")
         if self.name == "transformer":
             _require(self, "heads", self.width % self.heads == 0, f"width {self.width} is not divisible by heads")
+            channels = NUM_ATTENTION_CHANNELS
+            _require(
+                self, "heads", self.heads % channels == 0, f"must be a multiple of {channels} (attention channels)"
+            )
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -218,8 +234,8 @@ class LevelSettings:
             (a level set directory written by `kinetix generate`) or 'files' (level files, e.g. for fine-tuning).
         levelset: the level set directory (source 'levelset' only), else null.
         files: level files (`kinetix-level/1` JSON) to train on (source 'files' only), else empty.
-        pool_size: generated levels held on the device (source 'generated'); episodes reset to a random pool
-            level and the pool is refilled from the sampler in batches, rather than sampling a level per step.
+        pool_size: generated levels held on the device (source 'generated'), sampled and filtered once at the start
+            of the run with the run's seed; episodes reset to a uniformly drawn pool level.
     """
 
     source: LevelSource = "generated"
@@ -262,8 +278,7 @@ class ExperimentConfig:
 
     def __post_init__(self):
         _check_types(self)
-        needs = {"transformer": ("symbolic-entity",), "pi-mlp": ("symbolic-entity",)}
-        allowed = needs.get(self.model.name, ("symbolic-flat", "pixels"))
+        allowed = MODEL_OBSERVATIONS[self.model.name]
         if self.env.observation not in allowed:
             raise ConfigError(
                 f"model.name: {self.model.name!r} needs env.observation {' or '.join(map(repr, allowed))}, "

@@ -7,3 +7,7 @@ class UserError(Exception):
     """Bad input from the user (a file, a flag, a config key). The CLI prints it and exits with code 2."""
 
     exit_code = 2
+
+
+class LevelError(UserError):
+    """A level file that cannot be loaded: the message names the file, the entity and the field."""

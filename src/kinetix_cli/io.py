@@ -1,4 +1,4 @@
-"""Atomic, versioned writes of the files the toolkit produces."""
+"""Reading and writing the toolkit's files: JSON read with one-line errors, atomic (versioned) writes."""
 
 from __future__ import annotations
 
@@ -7,7 +7,9 @@ import os
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
+
+from kinetix_cli.errors import UserError
 
 
 def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> None:
@@ -44,3 +46,30 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
 def atomic_write_json(path: str | os.PathLike, payload: dict, format_name: str) -> None:
     """Write `payload` as JSON with a leading `"format": format_name` version tag."""
     atomic_write_text(path, json.dumps({"format": format_name, **payload}, indent=2) + "\n")
+
+
+def read_json(path: str | os.PathLike, error: type[UserError] = UserError) -> Any:
+    """The JSON value of a file; a missing, unreadable or malformed file raises `error` naming the file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise error(f"{path}: no such file") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read: {exc.strerror}") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise error(f"{path}: not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+
+
+def read_format(path: str | os.PathLike, format_name: str, error: type[UserError] = UserError) -> dict:
+    """A JSON object written by `atomic_write_json` with `"format": format_name`; any other file or version
+    raises `error` naming the file and the format found."""
+    payload = read_json(path, error)
+    found = payload.get("format") if isinstance(payload, dict) else None
+    if found != format_name:
+        raise error(f"{path}: format: expected {format_name!r}, got {found!r}")
+    return payload

@@ -12,7 +12,7 @@ import pytest
 
 from engine import SIZES, Params, Scene, Static, stack, step
 from engine.random_scenes import random_actions, random_scene
-from sim import simulate_batch
+from helpers.sim import simulate_batch
 
 
 def _batch(static: Static, count: int, seed: int = 0):

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from engine import Scene
-from sim import WORLD, simulate
+from helpers.sim import WORLD, simulate
 
 G = 9.81
 DT = 1.0 / 60.0

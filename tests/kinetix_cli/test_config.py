@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from helpers.paths import EXPERIMENTS
 from kinetix_cli.config import (
     CONFIG_FORMAT,
     SECTIONS,
@@ -22,7 +23,7 @@ from kinetix_cli.config import (
 )
 from kinetix_cli.errors import UserError
 
-EXPERIMENTS = Path(__file__).resolve().parents[2] / "experiments"
+EXPERIMENTS = EXPERIMENTS
 REPO = EXPERIMENTS.parent
 
 
@@ -82,15 +83,22 @@ def test_the_expected_experiment_files_exist_with_reference_settings():
     assert small.ppo.batch_size <= 4096 and small.ppo.total_timesteps <= 1_000_000
 
 
-def test_choices_match_the_environment_modules():
+def test_choices_are_the_engines_sizes_and_the_constants():
+    """The string fields accept exactly the names the engine and the environment define (one source each)."""
     from engine import SIZES
-    from kinetix_cli.actions import ACTION_TYPES
-    from kinetix_cli.env import OBSERVATION_TYPES
+    from kinetix_cli.constants import ACTION_TYPES, MODEL_NAMES, OBSERVATION_TYPES
 
-    hints = typing.get_type_hints(EnvSettings)
-    assert set(typing.get_args(hints["size"])) == set(SIZES)
-    assert set(typing.get_args(hints["observation"])) == set(OBSERVATION_TYPES)
-    assert set(typing.get_args(hints["action"])) == set(ACTION_TYPES)
+    env, model = typing.get_type_hints(EnvSettings), typing.get_type_hints(ModelSettings)
+    assert typing.get_args(env["size"]) == tuple(SIZES) == ("s", "m", "l")
+    assert typing.get_args(env["observation"]) == OBSERVATION_TYPES
+    assert typing.get_args(env["action"]) == ACTION_TYPES
+    assert typing.get_args(model["name"]) == MODEL_NAMES
+
+
+def test_transformer_heads_must_fill_the_attention_channels():
+    with pytest.raises(ConfigError, match="model.heads: must be a multiple of 4"):
+        ModelSettings(name="transformer", width=120, heads=6)
+    assert ModelSettings(name="pi-mlp", width=120, heads=6).heads == 6  # only the transformer has heads
 
 
 def test_every_field_is_documented():
@@ -214,7 +222,10 @@ def test_unknown_keys_are_named_with_a_suggestion(tmp_path, text, expected):
         ("  num_envs: '64'\n", "ppo.num_envs: expected an integer, got '64' (str)"),
         ("  num_envs: true\n", "ppo.num_envs: expected an integer, got True (bool)"),
         ("  normalise_advantages: yes\n", "ppo.normalise_advantages: expected true or false, got 'yes' (str)"),
-        ("env:\n  observation: entity\n", "env.observation: expected one of 'symbolic-entity'"),
+        (
+            "env:\n  observation: entity\n",
+            "env.observation: expected one of 'symbolic-flat', 'symbolic-entity', 'pixels'",
+        ),
         ("levels:\n  source: files\n  files: a.json\n", "levels.files: expected a list of strings, got 'a.json'"),
         ("levels:\n  source: files\n  files: [a.json, 3]\n", "levels.files[1]: expected a string, got 3 (int)"),
         ("run:\n  init_from: 5\n", "run.init_from: expected a string or null, got 5 (int)"),

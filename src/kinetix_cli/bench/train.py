@@ -1,0 +1,120 @@
+"""`kinetix bench train`: PPO training throughput and compile time per model.
+
+One measurement compiles the whole jitted PPO update of `kinetix_cli.rl.ppo` (rollout of `num_steps` steps in
+`envs` environments, GAE, `epochs` x `minibatches` gradient steps) for one model and observation, then runs
+updates for at least `min_time` seconds. Env steps/s = envs x num_steps / seconds per update (median).
+The environments reset to random full levels of the size (`bench.env.random_levels`: every slot used), the
+heaviest case for the engine and for the entity models. Each model reads its first observation type in
+`constants.MODEL_OBSERVATIONS`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Callable
+
+import jax
+
+from engine import SIZES
+from kinetix_cli.bench.env import random_levels
+from kinetix_cli.bench.timing import time_calls
+from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
+from kinetix_cli.constants import MODEL_NAMES, MODEL_OBSERVATIONS
+from kinetix_cli.env.factory import make_env
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl.networks import make_network, parameter_count
+from kinetix_cli.rl.ppo import init_runner, ppo_update
+
+
+@dataclasses.dataclass(frozen=True)
+class TrainBenchConfig:
+    """What to measure for `kinetix bench train`.
+
+    Attributes:
+        size: 's', 'm' or 'l'.
+        models: model names ('flat-mlp', 'pi-mlp', 'transformer').
+        envs: numbers of parallel environments.
+        num_steps: rollout length per environment per update.
+        epochs, minibatches: PPO passes over each rollout and minibatches per pass.
+        width, layers: hidden width (entity encoders, transformer, heads) and actor/critic hidden layers.
+        min_time: seconds of timed updates per measurement (at least 2 updates).
+        distinct_levels: random full levels the environments reset to.
+        seed: seed of the levels, parameters and actions.
+    """
+
+    size: str = "s"
+    models: tuple[str, ...] = ("flat-mlp", "pi-mlp", "transformer")
+    envs: tuple[int, ...] = (64,)
+    num_steps: int = 32
+    epochs: int = 4
+    minibatches: int = 4
+    width: int = 128
+    layers: int = 5
+    min_time: float = 5.0
+    distinct_levels: int = 128
+    seed: int = 0
+
+
+@dataclasses.dataclass
+class TrainBenchResult:
+    """One measurement: whole PPO updates (rollout, GAE, epochs) in environment steps per second."""
+
+    model: str
+    observation: str
+    size: str
+    envs: int
+    parameters: int
+    compile_s: float
+    steps_per_s: float
+    calls: int
+
+
+def experiment_for(config: TrainBenchConfig, model: str, envs: int) -> ExperimentConfig:
+    """The experiment config of one measurement (a single update's worth of steps)."""
+    ppo = PPOSettings(
+        num_envs=envs,
+        num_steps=config.num_steps,
+        update_epochs=config.epochs,
+        num_minibatches=config.minibatches,
+        total_timesteps=envs * config.num_steps,
+    )
+    return ExperimentConfig(
+        env=EnvSettings(size=config.size, observation=MODEL_OBSERVATIONS[model][0]),
+        model=ModelSettings(name=model, width=config.width, actor_critic_layers=config.layers),
+        ppo=ppo,
+    )
+
+
+def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], None] = lambda r: None):
+    """Measure every model and environment count; calls `report` after each measurement."""
+    if config.size not in SIZES:
+        raise UserError(f"--size: unknown size {config.size!r}; choose one of {', '.join(SIZES)}")
+    for model in config.models:
+        if model not in MODEL_NAMES:
+            raise UserError(f"--models: unknown model {model!r}; choose from {', '.join(MODEL_NAMES)}")
+    for envs in config.envs:
+        if (envs * config.num_steps) % config.minibatches:
+            raise UserError(
+                f"--minibatches: {config.minibatches} does not divide envs x steps = {envs} x {config.num_steps}"
+            )
+    pool = random_levels(SIZES[config.size], config.distinct_levels, config.seed)
+    results = []
+    for model in config.models:
+        for envs in config.envs:
+            experiment = experiment_for(config, model, envs)
+            env, env_params = make_env(experiment.env)
+            network = make_network(experiment.model, experiment.env)
+            update = functools.partial(ppo_update, env=env, network=network, settings=experiment.ppo)
+            runner = init_runner(env, network, experiment.ppo, pool, jax.random.key(config.seed))
+            step = functools.partial(update, env_params=env_params, levels=pool)
+            compile_s, rate, calls = time_calls(
+                lambda r, step=step: (step(r)[0],), (runner,), envs * config.num_steps, config.min_time
+            )
+            observation = experiment.env.observation
+            result = TrainBenchResult(
+                model, observation, config.size, envs, parameter_count(runner.params), compile_s, rate, calls
+            )
+            results.append(result)
+            report(result)
+    return results

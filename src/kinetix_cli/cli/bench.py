@@ -1,0 +1,167 @@
+"""The `kinetix bench` commands: compile time and steady-state throughput of the engine, the environment, PPO
+training and level generation. Each builds a config and calls one function of `kinetix_cli.bench`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+from rich.table import Table
+
+from kinetix_cli.cli.console import console, int_list, name_list
+
+bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
+
+
+@bench_app.command("engine")
+def bench_engine_command(
+    size: str = typer.Option("s", help="Scene size: s, m or l."),
+    envs: str = typer.Option("1,64,1024,4096", help="Comma-separated batch sizes."),
+    against: str = typer.Option(None, help="Also run the reference engine on the same scenes: jax2d."),
+    steps: int = typer.Option(20, min=1, help="Engine steps per timed call."),
+    min_time: float = typer.Option(2.0, min=0.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, help="Seed of the random scenes and actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Engine steps per second on random scenes filled to a size's capacity."""
+    from kinetix_cli.bench.engine import EngineBenchConfig, bench_engine
+
+    config = EngineBenchConfig(
+        size=size, envs=int_list("--envs", envs), against=against, steps=steps, min_time=min_time, seed=seed
+    )
+    table = Table("engine", "size", "envs", "compile [s]", "steps/s", "vs jax2d")
+    ours: dict[int, float] = {}
+
+    def report(r):
+        if r.engine == "kinetix":
+            ours[r.envs] = r.steps_per_s
+        ratio = f"{ours[r.envs] / r.steps_per_s:.1f}x" if r.engine == "jax2d" else ""
+        console.print(
+            f"[dim]{r.engine:8s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:12,.0f} steps/s {ratio}[/dim]"
+        )
+        table.add_row(r.engine, r.size, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}", ratio)
+
+    results = bench_engine(config, report)
+    console.print(table)
+    _write_bench_json(json_path, config, results)
+
+
+@bench_app.command("env")
+def bench_env_command(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    envs: str = typer.Option("64,1024", help="Comma-separated batch sizes."),
+    obs: str = typer.Option("symbolic-flat,symbolic-entity,pixels", help="Observation types to measure."),
+    steps: int = typer.Option(32, min=1, help="Environment steps per timed call."),
+    min_time: float = typer.Option(2.0, min=0.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, help="Seed of the random levels and actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Environment steps per second (frame skip, reward, observation and auto-reset included)."""
+    from kinetix_cli.bench.env import EnvBenchConfig, bench_env
+
+    config = EnvBenchConfig(
+        size=size,
+        envs=int_list("--envs", envs),
+        observations=name_list(obs),
+        steps=steps,
+        min_time=min_time,
+        seed=seed,
+    )
+    table = Table("observation", "size", "envs", "compile [s]", "env steps/s")
+
+    def report(r):
+        console.print(
+            f"[dim]{r.observation:16s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:12,.0f} env steps/s[/dim]"
+        )
+        table.add_row(r.observation, r.size, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}")
+
+    results = bench_env(config, report)
+    console.print(table)
+    _write_bench_json(json_path, config, results)
+
+
+@bench_app.command("train")
+def bench_train_command(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    models: str = typer.Option("flat-mlp,pi-mlp,transformer", help="Comma-separated models to measure."),
+    envs: str = typer.Option("64", help="Comma-separated numbers of parallel environments."),
+    steps: int = typer.Option(32, min=1, help="Rollout steps per environment per update."),
+    epochs: int = typer.Option(4, min=1, help="PPO epochs per update."),
+    minibatches: int = typer.Option(4, min=1, help="Minibatches per epoch."),
+    width: int = typer.Option(128, min=1, help="Hidden width of the models."),
+    layers: int = typer.Option(5, min=1, help="Actor and critic hidden layers."),
+    min_time: float = typer.Option(5.0, min=0.0, help="Seconds of timed updates per measurement."),
+    seed: int = typer.Option(0, help="Seed of the levels, parameters and actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """PPO training env steps per second and compile time per model (whole jitted updates)."""
+    from kinetix_cli.bench.train import TrainBenchConfig, bench_train
+
+    config = TrainBenchConfig(
+        size=size,
+        models=name_list(models),
+        envs=int_list("--envs", envs),
+        num_steps=steps,
+        epochs=epochs,
+        minibatches=minibatches,
+        width=width,
+        layers=layers,
+        min_time=min_time,
+        seed=seed,
+    )
+    table = Table("model", "observation", "size", "envs", "parameters", "compile [s]", "env steps/s")
+
+    def report(r):
+        console.print(
+            f"[dim]{r.model:12s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:10,.0f} env steps/s[/dim]"
+        )
+        row = (r.model, r.observation, r.size, str(r.envs), f"{r.parameters:,}", f"{r.compile_s:.1f}")
+        table.add_row(*row, f"{r.steps_per_s:,.0f}")
+
+    results = bench_train(config, report)
+    console.print(table)
+    _write_bench_json(json_path, config, results)
+
+
+@bench_app.command("generate")
+def bench_generate_command(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
+    min_time: float = typer.Option(10.0, min=0.0, help="Seconds of timed chunks after compilation."),
+    seed: int = typer.Option(0, help="Generation seed."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the result to this JSON file."),
+) -> None:
+    """Kept levels per second with the default filters, and compile times."""
+    from kinetix_cli.bench.generate import GenerateBenchConfig, bench_generate
+    from kinetix_cli.generator.filters import make_config
+
+    make_config(size, chunk)  # checks the flags before anything compiles
+    config = GenerateBenchConfig(size=size, chunk=chunk, min_time=min_time, seed=seed)
+    r = bench_generate(config)
+    table = Table("size", "chunk", "sampler compile [s]", "compile [s]", "sampled/s", "kept/s", "kept")
+    table.add_row(
+        r.size,
+        str(r.chunk),
+        f"{r.sampler_compile_s:.1f}",
+        f"{r.compile_s:.1f}",
+        f"{r.sampled_per_s:,.0f}",
+        f"{r.kept_per_s:,.0f}",
+        f"{r.kept_fraction:.0%}",
+    )
+    console.print(table)
+    _write_bench_json(json_path, config, [r])
+
+
+def _write_bench_json(json_path: Path | None, config, results) -> None:
+    """Write a benchmark's machine, versions, config and results (`kinetix-bench/1`) if a path was given."""
+    if json_path is None:
+        return
+    from kinetix_cli.bench.timing import bench_record
+    from kinetix_cli.constants import BENCH_FORMAT
+    from kinetix_cli.io import atomic_write_json
+
+    atomic_write_json(json_path, bench_record(config, results), BENCH_FORMAT)
+    console.print(f"wrote {json_path}")

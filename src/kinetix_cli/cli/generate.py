@@ -1,0 +1,60 @@
+"""`kinetix generate`: sample, filter and write a level set."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from kinetix_cli.cli.console import console
+
+commands = typer.Typer()
+
+
+@commands.command()
+def generate(
+    size: str = typer.Option("s", help="Level size: s, m or l."),
+    count: int = typer.Option(..., min=1, help="Distinct levels to keep."),
+    seed: int = typer.Option(0, help="Seed; the same command gives byte-identical files."),
+    out: Path = typer.Option(..., "--out", help="Level-set folder (created; an unfinished one is resumed)."),
+    filters: str = typer.Option("noop,random", "--filter", help="Drop levels solved by: noop, random, both or none."),
+    random_attempts: int = typer.Option(3, min=1, help="Random-policy episodes per level (random filter)."),
+    random_max_rate: float = typer.Option(0.5, help="Drop levels random play solves more often than this."),
+    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
+    shard_size: int = typer.Option(4096, min=1, help="Levels per shard file."),
+) -> None:
+    """Sample levels, drop trivial ones, and write a level set (manifest + shards), resumably."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from kinetix_cli.generator.filters import FilterConfig, generate_chunk, make_config, parse_filters
+    from kinetix_cli.levels.levelset import generate_levelset
+
+    noop, random = parse_filters(filters)
+    filter_config = FilterConfig(noop, random_attempts if random else 0, random_max_rate)
+    config = make_config(size, chunk, filter_config)
+    columns = (TextColumn("generating"), BarColumn(), MofNCompleteColumn(), TextColumn("{task.fields[info]}"))
+    with Progress(*columns, TimeElapsedColumn(), console=console) as bar:
+        task = bar.add_task("generate", total=count, info="compiling the sampler and filters...")
+        start: list[float] = []  # time and kept count after the first chunk (which includes compilation)
+
+        def report(kept: int, stats: dict) -> None:
+            import time
+
+            start.extend([] if start else [time.perf_counter(), kept])
+            rate = (kept - start[1]) / max(time.perf_counter() - start[0], 1e-9)
+            sampled = max(stats.get("sampled", 0), 1)
+            info = f"{rate:,.0f} kept levels/s, kept {kept / sampled:.0%} of {sampled:,} sampled"
+            bar.update(task, completed=kept, info=info if rate else "first chunk done")
+
+        manifest = generate_levelset(
+            out,
+            size=size,
+            count=count,
+            seed=seed,
+            settings=config.settings(),
+            chunk_fn=lambda i: generate_chunk(config, seed, i),
+            shard_size=shard_size,
+            progress=report,
+        )
+    stats = ", ".join(f"{k} {v:,}" for k, v in manifest["stats"].items())
+    console.print(f"wrote {out}: {manifest['count']:,} {size} levels in {len(manifest['shards'])} shard(s); {stats}")

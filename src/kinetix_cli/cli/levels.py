@@ -1,0 +1,348 @@
+"""Commands on level files and level sets: validate, render, rollout, solve, import, and the `levels` group
+(list, info, show, sheet, export)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+from rich.table import Table
+
+from kinetix_cli.cli.console import console
+from kinetix_cli.errors import UserError
+
+commands = typer.Typer()
+levels_app = typer.Typer(no_args_is_help=True, help="Level files and generated level sets.")
+
+
+@commands.command("import")
+def import_command(
+    paths: list[Path] = typer.Argument(
+        ..., help="Reference-format level files (Kinetix, KinetixJS) or folders of them."
+    ),
+    out: Path = typer.Option(..., "-o", "--out", help="Folder to write the converted levels into."),
+    report: Path = typer.Option(None, "--report", help="Also write what was not carried over to this JSON file."),
+) -> None:
+    """Convert reference Kinetix levels into kinetix-level files, listing what could not be carried over."""
+    from kinetix_cli.constants import IMPORT_REPORT_FORMAT
+    from kinetix_cli.io import atomic_write_json
+    from kinetix_cli.levels.files import import_reference_file, level_paths
+
+    entries = []
+    for path in paths:
+        for source in level_paths([path]):
+            target = out / (source.relative_to(path) if path.is_dir() else source.name)
+            notes = import_reference_file(source, target)
+            status = f"[yellow]{len(notes)} note(s)[/yellow]" if notes else "[green]ok[/green]"
+            console.print(f"{status} {source} -> {target}", highlight=False)
+            for note in notes:
+                console.print(f"    {note}", highlight=False)
+            entries.append({"source": str(source), "output": str(target), "notes": [vars(n) for n in notes]})
+    noted = sum(bool(e["notes"]) for e in entries)
+    console.print(f"imported {len(entries)} level(s) into {out}; {noted} with something not carried over")
+    if report is not None:
+        atomic_write_json(report, {"levels": entries}, IMPORT_REPORT_FORMAT)
+        console.print(f"wrote {report}")
+
+
+@commands.command()
+def validate(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    play: bool = typer.Option(
+        False,
+        "--play",
+        help="Also replay each solution, a no-op policy and 20 random policies (exit 1 if a "
+        "solution fails or the no-op solves).",
+    ),
+) -> None:
+    """Check level files; stop with exit code 2 at the first bad one."""
+    from kinetix_cli.levels.files import level_paths, load_level
+    from kinetix_cli.levels.solution import SOLUTION_SETTINGS, check_level, decode_solution
+
+    files = level_paths(paths)
+    problems = 0
+    for path in files:
+        spec = load_level(path)
+        if spec.solution is not None:
+            decode_solution(spec.solution, str(path), SOLUTION_SETTINGS.max_steps)
+        scene = spec.scene
+        console.print(
+            f"[green]ok[/green] {path}  size {spec.default_size()}  {len(scene.polygons)} polygons, "
+            f"{len(scene.circles)} circles, {len(scene.joints)} joints, "
+            f"{len(scene.thrusters)} thrusters{', solution' if spec.solution else ''}",
+            highlight=False,
+        )
+        if play:
+            outcome = check_level(spec, attempts=20)
+            solution = outcome.get("solution")
+            lines = []
+            if solution is None:
+                lines.append("[yellow]no solution[/yellow]")
+            elif bool(solution.solved[0]):
+                lines.append(f"solution solves in {int(solution.length[0])} steps")
+            else:
+                lines.append("[red]solution does not solve[/red]")
+                problems += 1
+            if bool(outcome["noop"].solved[0]):
+                lines.append("[red]no-op solves[/red]")
+                problems += 1
+            else:
+                lines.append("no-op does not solve")
+            lines.append(f"random solves {int(outcome['random'].solved.sum())}/20")
+            console.print("    " + "; ".join(lines))
+    console.print(f"{len(files)} level file(s) valid")
+    if problems:
+        console.print(f"[red]{problems} problem(s) when playing the levels[/red]")
+        raise typer.Exit(1)
+
+
+@commands.command()
+def solve(
+    level: Path = typer.Argument(..., help="Level file."),
+    write: bool = typer.Option(False, "--write", help="Store the solution in the level file."),
+    population: int = typer.Option(256, min=8, help="Action sequences per iteration."),
+    iterations: int = typer.Option(20, min=1, help="Most CEM iterations."),
+    segments: int = typer.Option(16, min=1, max=256, help="Pieces of constant action per episode."),
+    seed: int = typer.Option(0, help="Random seed."),
+) -> None:
+    """Find an action sequence that solves a level (cross-entropy method on the batched environment)."""
+    import json
+
+    from kinetix_cli.io import read_json
+    from kinetix_cli.levels.files import load_level, save_level
+    from kinetix_cli.tools.solve import SolveConfig
+    from kinetix_cli.tools.solve import solve as run_solve
+
+    spec = load_level(level)
+    config = SolveConfig(population=population, iterations=iterations, segments=segments, seed=seed)
+
+    def report(iteration: int, best: float, solved: float) -> None:
+        console.print(f"iteration {iteration:3d}: best fitness {best:8.2f}, solved {solved:6.1%} of the population")
+
+    result = run_solve(spec, config, report)
+    if result.solution is None:
+        console.print(f"[red]no robust solution[/red] after {result.episodes} episodes ({result.seconds:.0f} s)")
+        raise typer.Exit(1)
+    console.print(
+        f"[green]solved[/green] in {result.length} steps after {result.episodes} episodes ({result.seconds:.0f} s): "
+        f"{json.dumps(result.solution)}",
+        highlight=False,
+    )
+    if write:
+        save_level(level, read_json(level) | {"solution": result.solution})
+        console.print(f"wrote the solution into {level}")
+
+
+@commands.command()
+def render(
+    level: Path = typer.Argument(..., help="Level file."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+    scale: float = typer.Option(120, min=10, max=1000, help="Pixels per metre."),
+) -> None:
+    """Draw a level as a PNG: roles, joints and motors by binding, thrusters."""
+    from kinetix_cli.levels.files import load_level
+    from kinetix_cli.viz.render import render_level, save_png
+
+    spec = load_level(level)
+    save_png(render_level(spec.build(), scale=scale, title=spec.name, caption=spec.description or None), out)
+    console.print(f"wrote {out}")
+
+
+@commands.command()
+def rollout(
+    level: Path = typer.Argument(..., help="Level file."),
+    policy: str = typer.Option(
+        "solution", help="noop, random, solution (the level's stored actions) or a training run directory."
+    ),
+    out: Path = typer.Option(None, "-o", "--out", help="GIF file to write (omit to only print the outcome)."),
+    seed: int = typer.Option(0, help="Seed of the random policy, or of a trained policy's sampled actions."),
+    scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF."),
+) -> None:
+    """Play one episode of a level and print its return and whether it was solved; optionally as a GIF.
+
+    A trained policy plays in its run's environment (frame skip, episode cap, shaping, observation, action)."""
+    import jax
+
+    from kinetix_cli.env.episode import open_loop
+    from kinetix_cli.env.factory import make_env, make_env_for_level
+    from kinetix_cli.levels.files import load_level
+    from kinetix_cli.levels.solution import OPEN_LOOP_POLICIES, SOLUTION_SETTINGS, open_loop_actions
+    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.networks import make_network, sampling_policy
+    from kinetix_cli.viz.render import save_gif
+    from kinetix_cli.viz.rollout import episode_frames, record_episode
+
+    spec = load_level(level)
+    if policy in OPEN_LOOP_POLICIES:
+        env, params = make_env(SOLUTION_SETTINGS, spec.default_static())
+        horizon = SOLUTION_SETTINGS.max_steps
+        act = open_loop(jax.numpy.asarray(open_loop_actions(spec, policy, horizon, seed)))
+    elif Path(policy).is_dir():
+        config, network_params, _ = load_policy(policy)
+        env, params = make_env_for_level(config.env, spec.default_size(), str(level))
+        horizon = config.env.max_steps
+        act = sampling_policy(make_network(config.model, config.env), network_params)
+    else:
+        raise UserError(f"--policy: {policy!r} is not one of {', '.join(OPEN_LOOP_POLICIES)} nor a run directory")
+    episode = record_episode(env, params, spec.build(env.static), act, jax.random.key(seed), horizon)
+    ending = "[green]solved[/green]" if episode.solved else "[red]failed[/red]" if episode.failed else "timed out"
+    console.print(
+        f"{spec.name}: policy {policy}: {ending} after {episode.length} steps "
+        f"({episode.length * episode.step_seconds:.2f} s), return {episode.total_return:+.3f}"
+    )
+    if out is not None:
+        save_gif(episode_frames(spec.name, episode, scale=scale), out, fps=1.0 / episode.step_seconds)
+        console.print(f"wrote {out} ({episode.length + 1} frames)")
+
+
+@levels_app.command("list")
+def levels_list(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    markdown: bool = typer.Option(False, "--markdown", help="Print a Markdown table (for levels/README.md)."),
+    play: int = typer.Option(
+        0, "--play", min=0, help="Also play a no-op and this many random episodes per level (adds two columns)."
+    ),
+) -> None:
+    """One row per level: file, size, entities, solution length and goal (and with --play: no-op, random)."""
+    from kinetix_cli.levels.files import level_paths, load_level
+    from kinetix_cli.levels.solution import check_level
+
+    rows = []
+    for path in level_paths(paths):
+        spec = load_level(path)
+        scene = spec.scene
+        entities = f"{len(scene.polygons)}/{len(scene.circles)}/{len(scene.joints)}/{len(scene.thrusters)}"
+        steps = "-"
+        if spec.solution is not None:
+            steps = str(sum(entry[1] for entry in spec.solution.get("actions", [])))
+        row = (str(path), spec.default_size(), entities, steps)
+        if play:
+            outcome = check_level(spec, attempts=play)
+            noop = "yes" if bool(outcome["noop"].solved[0]) else "no"
+            row += (noop, f"{int(outcome['random'].solved.sum())}/{play}")
+        rows.append((*row, spec.description))
+    header = ("level", "size", "polygons/circles/joints/thrusters", "solution actions")
+    header += ("no-op solves", "random solves") if play else ()
+    header += ("goal",)
+    if markdown:
+        print("| " + " | ".join(header) + " |")
+        print("|" + "---|" * len(header))
+        for row in rows:
+            print("| " + " | ".join(row) + " |")
+        return
+    table = Table(*header)
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+
+
+@levels_app.command("info")
+def levels_info(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
+) -> None:
+    """A level set's settings, filter statistics and entity counts."""
+    import json
+
+    from kinetix_cli.levels.levelset import load_levelset
+    from kinetix_cli.levels.stats import level_statistics
+
+    levelset = load_levelset(path)
+    manifest = levelset.manifest
+    info = {
+        "path": str(path),
+        "format": manifest.get("format"),
+        "size": manifest["size"],
+        "count": manifest["count"],
+        "seed": manifest["seed"],
+        "version": manifest.get("version"),
+        "generation": manifest["stats"],
+        "settings": manifest["settings"],
+        "statistics": level_statistics(manifest["size"], levelset.levels),
+    }
+    if json_out:
+        print(json.dumps(info, indent=2))
+        return
+    console.print(f"[bold]{path}[/bold]: {info['count']:,} size-{info['size']} levels, seed {info['seed']}")
+    console.print("generation: " + ", ".join(f"{k} {v:,}" for k, v in info["generation"].items()))
+    stats = info["statistics"]
+    table = Table("per level", "mean", "min", "max")
+    for name, row in stats["per level"].items():
+        table.add_row(name, f"{row['mean']:.2f}", str(row["min"]), str(row["max"]))
+    console.print(table)
+    floor = ", ".join(f"{k} {v:,}" for k, v in stats["floor role"].items())
+    console.print(
+        f"levels with a motor {stats['levels with a motor']:,}, with a thruster {stats['levels with a thruster']:,}, "
+        f"with red {stats['levels with red']:,}; floor role: {floor}"
+    )
+
+
+@levels_app.command("show")
+def levels_show(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    index: int = typer.Option(0, help="The level to draw (with --grid: the first one)."),
+    grid: int = typer.Option(0, min=0, help="Draw this many levels from --index on as a contact sheet."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+) -> None:
+    """Render one level of a set, or a contact sheet of several."""
+    import math
+
+    from kinetix_cli.levels.levelset import level_at, load_levelset
+    from kinetix_cli.viz.contact_sheet import contact_sheet
+    from kinetix_cli.viz.render import render_level, save_png
+
+    levelset = load_levelset(path)
+    if grid:
+        last = min(index + grid, levelset.manifest["count"])
+        levels = [(level_at(levelset, i), f"level {i}") for i in range(index, max(last, index + 1))]
+        image = contact_sheet(levels, columns=math.ceil(math.sqrt(len(levels))))
+    else:
+        image = render_level(level_at(levelset, index), title=f"{path.name} level {index}")
+    save_png(image, out)
+    console.print(f"wrote {out}")
+
+
+@levels_app.command("sheet")
+def levels_sheet(
+    paths: list[Path] = typer.Argument(..., help="Level files or folders of them."),
+    out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
+    columns: int = typer.Option(0, min=0, help="Tiles per row (default: about square)."),
+    scale: float = typer.Option(40, min=5, max=500, help="Pixels per metre of each tile."),
+) -> None:
+    """Draw level files side by side in one PNG, each under its file name."""
+    import math
+
+    from kinetix_cli.levels.files import level_paths, load_level
+    from kinetix_cli.viz.contact_sheet import contact_sheet
+    from kinetix_cli.viz.render import save_png
+
+    levels = [(load_level(path).build(), path.stem) for path in level_paths(paths)]
+    save_png(contact_sheet(levels, columns=columns or math.ceil(math.sqrt(len(levels))), scale=scale), out)
+    console.print(f"wrote {out} ({len(levels)} levels)")
+
+
+@levels_app.command("export")
+def levels_export(
+    path: Path = typer.Argument(..., help="Level-set folder."),
+    index: int = typer.Option(..., help="The level to export."),
+    out: Path = typer.Option(..., "-o", "--out", help="Level file (JSON) to write."),
+) -> None:
+    """Write one level of a set as a level file (kinetix-level/1) that validate, render and rollout read."""
+    from engine import SIZES
+    from kinetix_cli.levels.export import export_level
+    from kinetix_cli.levels.files import save_level
+    from kinetix_cli.levels.levelset import level_at, load_levelset
+
+    levelset = load_levelset(path)
+    size, seed = levelset.manifest["size"], levelset.manifest["seed"]
+    try:
+        data = export_level(
+            level_at(levelset, index),
+            SIZES[size],
+            name=f"{path.name} {index}",
+            description=f"Generated level {index} of {path} (seed {seed}): make green touch blue",
+        )
+    except ValueError as exc:
+        raise UserError(f"{path}: level {index} cannot be written as a level file: {exc}") from None
+    save_level(out, data)
+    console.print(f"wrote {out}")

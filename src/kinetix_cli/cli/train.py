@@ -1,0 +1,117 @@
+"""Training commands: pretrain, finetune and eval."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+from rich.table import Table
+
+from kinetix_cli.cli.console import console
+
+commands = typer.Typer()
+
+
+@commands.command()
+def pretrain(
+    config: Path = typer.Option(..., "--config", help="Experiment config (YAML), e.g. experiments/cpu-small.yaml."),
+    run_dir: Path = typer.Option(..., "--run-dir", help="Folder for config, metrics and checkpoints."),
+    levels: Path = typer.Option(None, "--levels", help="Train on this level set instead of generated levels."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
+    overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+    wandb: str = typer.Option(None, "--wandb", help="Also log to Weights & Biases: offline or online."),
+) -> None:
+    """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set."""
+    from kinetix_cli.config import load_config
+
+    extra = ["levels.source=levelset", f"levels.levelset={levels}"] if levels else []
+    extra += [f"run.wandb={wandb}"] if wandb else []
+    _train_with_progress(load_config(config, [*extra, *overrides]), run_dir, resume)
+
+
+@commands.command()
+def finetune(
+    levels: list[Path] = typer.Argument(..., help="Level files or folders to train on (one size)."),
+    source: str = typer.Option(..., "--from", help="Run directory or checkpoint to start from, or 'none' (scratch)."),
+    run_dir: Path = typer.Option(..., "--run-dir", help="Folder for config, metrics and checkpoints."),
+    config: Path = typer.Option(Path("experiments/finetune.yaml"), "--config", help="Experiment config (YAML)."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
+    overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+) -> None:
+    """Train on hand-made levels, starting from a trained agent (--from RUN) or from scratch (--from none).
+
+    With --from RUN the model and the agent's interface to the environment (observation, action type, frame
+    skip) come from that run, so its parameters fit and it acts at the rate it learned; a --set of one of them
+    still wins. --from none uses the config's, so pass the same --set values to compare the two at equal
+    settings."""
+    from kinetix_cli.levels.files import level_paths
+    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.train import finetune_config
+
+    pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
+    experiment = finetune_config(config, level_paths(levels), pretrained, overrides)
+    _train_with_progress(experiment, run_dir, resume, params)
+
+
+def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=None) -> None:
+    """Run `train` under a rich progress bar (steps, SPS, return, solve rate, ETA)."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    from kinetix_cli.rl.train import train
+
+    p = experiment.ppo
+    columns = (TextColumn("training"), BarColumn(), TextColumn("{task.fields[info]}"), TimeElapsedColumn())
+    with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
+        task = bar.add_task("train", total=p.num_updates * p.batch_size, info="levels and compile...")
+        last_eval = ""
+
+        def report(r: dict) -> None:
+            nonlocal last_eval
+            if "eval_solve_rate" in r:
+                last_eval = f", eval {r['eval_solve_rate']:.0%}"
+            info = f"{r['steps']:,} steps, {r['sps']:,.0f} SPS, return {r['return']:+.2f}"
+            info += f", solve rate {r['solve_rate']:.0%}{last_eval}"
+            bar.update(task, completed=r["steps"], info=info)
+
+        train(experiment, run_dir, resume=resume, progress=report, init_params=init_params)
+    console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
+
+
+@commands.command("eval")
+def eval_command(
+    policy: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
+    levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
+    attempts: int = typer.Option(20, min=1, help="Stochastic episodes per level."),
+    seed: int = typer.Option(0, help="Seed of the sampled actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Solve rate, return and episode length of a trained policy per level and per suite, in the run's own
+    environment settings."""
+    import dataclasses
+
+    from kinetix_cli.constants import EVAL_FORMAT
+    from kinetix_cli.io import atomic_write_json
+    from kinetix_cli.levels.files import level_paths
+    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.evaluate import evaluate, suite_summary
+
+    config, params, update = load_policy(policy)
+    results = evaluate(config, params, level_paths(levels), attempts, seed)
+    table = Table("level", "solve rate", "return", "length")
+    for r in results:
+        table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")
+    summary = suite_summary(results)
+    for name, row in summary.items():
+        table.add_row(f"[bold]{name}[/bold] ({row['levels']} levels)", f"{row['solve_rate']:.0%}", "", "")
+    console.print(table)
+    if json_path is not None:
+        payload = {
+            "policy": str(policy),
+            "update": update,
+            "attempts": attempts,
+            "seed": seed,
+            "levels": [dataclasses.asdict(r) for r in results],
+            "suites": summary,
+        }
+        atomic_write_json(json_path, payload, EVAL_FORMAT)
+        console.print(f"wrote {json_path}")

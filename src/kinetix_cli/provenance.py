@@ -1,0 +1,42 @@
+"""What made a file: the toolkit's version, the library versions and the machine (for runs, level sets and
+benchmarks)."""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+from importlib import metadata
+
+import jax
+
+LIBRARIES = ("jax", "jaxlib", "flax", "optax", "orbax-checkpoint", "numpy", "jax2d")
+
+
+def tool_version() -> str:
+    """The installed `kinetix` version, or "unknown"."""
+    try:
+        return metadata.version("kinetix")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
+def environment_info() -> dict:
+    """Date, machine, device and library versions, for the record."""
+    versions = {"kinetix": tool_version()}
+    for package in LIBRARIES:
+        try:
+            versions[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            versions[package] = None
+    device = jax.devices()[0]
+    return {
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "machine": {
+            "platform": platform.platform(),
+            "processor": platform.processor() or platform.machine(),
+            "cpu_count": os.cpu_count(),
+            "device": f"{device.platform}:{device.device_kind}",
+        },
+        "versions": versions,
+    }

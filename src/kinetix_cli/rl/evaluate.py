@@ -1,0 +1,124 @@
+"""Evaluate a trained policy: stochastic attempts per level, solve rate per level and per suite.
+
+A level's solve rate is the share of `attempts` first episodes that end with green touching blue (the
+reference's protocol: 20 attempts, actions sampled from the policy). The episodes run in the run's own
+environment (`make_env_for_level(config.env, ...)`: its frame skip, episode cap and shaping), with each level's
+engine constants. Levels are grouped by size and each size is one batched, jitted rollout of the episode runner.
+A policy reading `symbolic-flat` observations only plays levels of its own size (the vector length depends on
+it); entity- and pixel-observation policies play every size.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from pathlib import Path
+
+import flax.linen as nn
+import jax
+import numpy as np
+
+from kinetix_cli.config import ExperimentConfig
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.episode import Outcome, run_episode
+from kinetix_cli.env.factory import make_env_for_level
+from kinetix_cli.env.level import Level, share_engine_params, stack_levels
+from kinetix_cli.levels.files import load_level
+from kinetix_cli.rl.networks import make_network, sampling_policy
+
+
+@dataclasses.dataclass
+class LevelResult:
+    """Evaluation of one level file."""
+
+    level: str
+    suite: str
+    size: str
+    solve_rate: float
+    mean_return: float
+    mean_length: float
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "horizon", "level_axes"))
+def play_policy(
+    params,
+    env_params: EnvParams,
+    levels: Level,
+    keys: jax.Array,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    horizon: int,
+    level_axes=0,
+) -> Outcome:
+    """One episode per (level, key) pair (leading axes equal) with actions sampled from the network; `level_axes`
+    from `share_engine_params`."""
+    policy = sampling_policy(network, params)
+    episode = functools.partial(run_episode, env, env_params, policy=policy, horizon=horizon)
+    return jax.vmap(lambda level, key: episode(level, key=key), in_axes=(level_axes, 0))(levels, keys)
+
+
+class Evaluator:
+    """Plays a policy on a fixed list of level files. Built once (files loaded, levels batched per size), then
+    called with parameters as often as needed: `kinetix eval` calls it once, training calls it every
+    `run.eval_every` updates. The jitted rollout is shared by every evaluator with the same settings."""
+
+    def __init__(self, config: ExperimentConfig, files: list[Path], attempts: int):
+        self.attempts = attempts
+        self.network = make_network(config.model, config.env)
+        self.horizon = config.env.max_steps
+        by_size: dict[str, list] = {}
+        for path in files:
+            spec = load_level(path)
+            by_size.setdefault(spec.default_size(), []).append((path, spec))
+        self._groups = []
+        for size, entries in by_size.items():
+            env, env_params = make_env_for_level(config.env, size, str(entries[0][0]))
+            levels = stack_levels([spec.build(env.static) for _, spec in entries])
+            repeated = jax.tree.map(lambda x: np.repeat(np.asarray(x), attempts, axis=0), levels)  # host side
+            self._groups.append((size, [path for path, _ in entries], env, env_params, *share_engine_params(repeated)))
+
+    def __call__(self, params, seed: int = 0) -> list[LevelResult]:
+        """`attempts` sampled episodes of every level with the policy `params`; one result per level file."""
+        results = []
+        for size, paths, env, env_params, levels, level_axes in self._groups:
+            keys = jax.random.split(jax.random.key(seed), len(paths) * self.attempts)
+            play = functools.partial(
+                play_policy, env=env, network=self.network, horizon=self.horizon, level_axes=level_axes
+            )
+            outcome = jax.device_get(play(params, env_params, levels, keys))
+            for i, path in enumerate(paths):
+                rows = slice(i * self.attempts, (i + 1) * self.attempts)
+                results.append(
+                    LevelResult(
+                        level=str(path),
+                        suite=str(Path(path).parent),
+                        size=size,
+                        solve_rate=float(np.mean(outcome.solved[rows])),
+                        mean_return=float(np.mean(outcome.total_return[rows])),
+                        mean_length=float(np.mean(outcome.length[rows])),
+                    )
+                )
+        return results
+
+
+def evaluate(config: ExperimentConfig, params, files: list[Path], attempts: int, seed: int = 0) -> list[LevelResult]:
+    """Play `attempts` episodes of every level file with the policy; one batched rollout per size."""
+    return Evaluator(config, files, attempts)(params, seed)
+
+
+def suite_summary(results: list[LevelResult]) -> dict[str, dict]:
+    """Mean solve rate, return and length per suite (folder), plus 'all'."""
+    groups: dict[str, list[LevelResult]] = {}
+    for r in results:
+        groups.setdefault(r.suite, []).append(r)
+    groups["all"] = results
+    return {
+        name: {
+            "levels": len(rs),
+            "solve_rate": float(np.mean([r.solve_rate for r in rs])),
+            "mean_return": float(np.mean([r.mean_return for r in rs])),
+            "mean_length": float(np.mean([r.mean_length for r in rs])),
+        }
+        for name, rs in groups.items()
+    }

@@ -1,0 +1,349 @@
+"""Actor-critic networks: flat MLP, permutation-invariant MLP and the entity transformer.
+
+Every model is a `flax.linen` Module whose ``__call__(obs)`` returns ``(distribution, value)``:
+
+- ``obs``: the ``symbolic-flat`` vector (..., F) or the ``pixels`` image (..., 125, 125, 3) for `FlatMLP`; an
+  `EntityObservation` for `PermutationInvariantMLP` and `EntityTransformer` (`constants.MODEL_OBSERVATIONS`).
+- ``distribution``: a `kinetix_cli.rl.distributions` pytree over the action type's actions (see
+  `action_distribution`).
+- ``value``: (...,) float32 critic estimate.
+
+Batching: the models are written for inputs with any leading batch shape ``...`` (none for one observation,
+(num_envs,) for a rollout step, (steps, num_envs) for a whole rollout), and every output carries the same
+leading shape, so callers apply them to batches directly; `jax.vmap` over ``apply`` works as well.
+
+The entity models see no slot index and no positional encoding: their parameters do not depend on the level
+size (the same params apply to s, m and l observations) and their output does not depend on the order of the
+entity slots. Masked entity rows never reach the output.
+
+Initialisation follows PureJaxRL: orthogonal kernels with gain sqrt(2) in hidden layers, 0.01 on the actor
+head and 1.0 on the critic head, zero biases; the attention and gate layers keep flax's defaults.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import flax.linen as nn
+import jax
+import jax.numpy as jnp
+
+from kinetix_cli.config import EnvSettings, ModelSettings
+from kinetix_cli.constants import MODEL_OBSERVATIONS, NUM_ATTENTION_CHANNELS
+from kinetix_cli.env.actions import action_space
+from kinetix_cli.env.episode import Policy
+from kinetix_cli.env.observations import EntityObservation
+from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
+
+FEATURE_AXES = {"symbolic-flat": 1, "pixels": 3}
+"""Trailing axes of one observation that `FlatMLP` flattens into its input vector."""
+
+ACTIVATIONS: dict[str, Callable[[jax.Array], jax.Array]] = {"tanh": nn.tanh, "relu": nn.relu}
+
+
+def orthogonal(gain: float) -> nn.initializers.Initializer:
+    """Orthogonal kernel initialiser with `gain` (PureJaxRL)."""
+    return nn.initializers.orthogonal(gain)
+
+
+def activation_fn(name: str) -> Callable[[jax.Array], jax.Array]:
+    """The activation called `name`; raises ValueError naming the choices."""
+    if name not in ACTIVATIONS:
+        raise ValueError(f"unknown activation {name!r}; choose one of {', '.join(ACTIVATIONS)}")
+    return ACTIVATIONS[name]
+
+
+def masked_mean(x: jax.Array, mask: jax.Array) -> jax.Array:
+    """(..., D) mean of rows x (..., R, D) where mask (..., R) is True; 0 when no row is."""
+    total = jnp.sum(jnp.where(mask[..., None], x, 0.0), axis=-2)
+    count = jnp.sum(mask, axis=-1, keepdims=True).astype(x.dtype)
+    return total / jnp.maximum(count, 1.0)
+
+
+class MLP(nn.Module):
+    """`depth` dense layers of `width` units, each followed by the activation (gain sqrt(2) orthogonal init).
+
+    Attributes:
+        width: units per layer.
+        depth: number of layers (0: identity).
+        activation: a name in `ACTIVATIONS`.
+    """
+
+    width: int
+    depth: int
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, x: jax.Array) -> jax.Array:
+        """(..., D) -> (..., width)."""
+        act = activation_fn(self.activation)
+        for _ in range(self.depth):
+            x = act(nn.Dense(self.width, kernel_init=orthogonal(math.sqrt(2.0)), bias_init=nn.initializers.zeros)(x))
+        return x
+
+
+def action_distribution(action_type: str, head: jax.Array, log_std: jax.Array | None = None) -> Distribution:
+    """The distribution of `action_type` from the actor head's output.
+
+    head: (..., H) with H = 6 * 3 (multi-discrete: per-entry logits padded to 3 choices), 11 (discrete) or 6
+        (continuous: the mean). log_std: (6,) continuous log standard deviation (state-independent).
+    """
+    space = action_space(action_type)
+    if action_type == "multi-discrete":
+        return MultiCategorical.from_flat(head, space.nvec)
+    if action_type == "discrete":
+        return Categorical(head)
+    return DiagGaussian(head, jnp.broadcast_to(log_std, head.shape))
+
+
+def head_size(action_type: str) -> int:
+    """Outputs of the actor head for `action_type` (see `action_distribution`)."""
+    space = action_space(action_type)
+    if action_type == "multi-discrete":
+        return len(space.nvec) * max(space.nvec)
+    if action_type == "discrete":
+        return space.nvec[0]
+    return space.shape[0]
+
+
+class ActorCriticHeads(nn.Module):
+    """Separate actor and critic MLPs on a shared embedding (the reference's 5 x 128 tanh by default).
+
+    Attributes:
+        action_type: one of `constants.ACTION_TYPES`.
+        hidden_width, hidden_depth: width and number of hidden layers of each MLP.
+        activation: a name in `ACTIVATIONS`.
+    """
+
+    action_type: str
+    hidden_width: int = 128
+    hidden_depth: int = 5
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, x: jax.Array) -> tuple[Distribution, jax.Array]:
+        """(..., D) embedding -> (distribution, (...,) value)."""
+        actor = MLP(self.hidden_width, self.hidden_depth, self.activation, name="actor")(x)
+        head = nn.Dense(head_size(self.action_type), kernel_init=orthogonal(0.01), name="actor_head")(actor)
+        log_std = None
+        if self.action_type == "continuous":
+            log_std = self.param("log_std", nn.initializers.zeros, (head.shape[-1],))
+        critic = MLP(self.hidden_width, self.hidden_depth, self.activation, name="critic")(x)
+        value = nn.Dense(1, kernel_init=orthogonal(1.0), name="critic_head")(critic)[..., 0]
+        return action_distribution(self.action_type, head, log_std), value
+
+
+class FlatMLP(nn.Module):
+    """Actor and critic MLPs on one observation flattened into a vector: the ``symbolic-flat`` vector
+    (size-specific: params fit one size) or the ``pixels`` image (a baseline; 46,875 inputs).
+
+    Attributes:
+        action_type: one of `constants.ACTION_TYPES`.
+        observation: 'symbolic-flat' or 'pixels' (`FEATURE_AXES` says how many trailing axes are one observation).
+        hidden_width, hidden_depth, activation: see `ActorCriticHeads`.
+    """
+
+    action_type: str = "multi-discrete"
+    observation: str = "symbolic-flat"
+    hidden_width: int = 128
+    hidden_depth: int = 5
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, obs: jax.Array) -> tuple[Distribution, jax.Array]:
+        """obs: (..., F) vectors or (..., H, W, 3) images, float32 -> (distribution, (...,) value)."""
+        axes = FEATURE_AXES[self.observation]
+        x = obs.reshape(*obs.shape[: obs.ndim - axes], -1)
+        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+
+
+class EntityEncoders(nn.Module):
+    """Per-type MLPs mapping polygon, circle, joint and thruster rows to `width`.
+
+    Attributes:
+        width: embedding width d.
+        depth: dense layers per encoder (>= 1), each followed by the activation.
+        activation: a name in `ACTIVATIONS`.
+    """
+
+    width: int
+    depth: int = 1
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, obs: EntityObservation) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
+        """(polygons (..., P, d), circles (..., C, d), joints (..., 2J, d), thrusters (..., T, d)), masked rows 0."""
+
+        def encode(rows, mask, name):
+            h = MLP(self.width, self.depth, self.activation, name=name)(rows)
+            return jnp.where(mask[..., None], h, 0.0)
+
+        return (
+            encode(obs.polygons, obs.polygon_mask, "polygon_encoder"),
+            encode(obs.circles, obs.circle_mask, "circle_encoder"),
+            encode(obs.joints, obs.joint_mask, "joint_encoder"),
+            encode(obs.thrusters, obs.thruster_mask, "thruster_encoder"),
+        )
+
+
+def shape_mask(obs: EntityObservation) -> jax.Array:
+    """(..., N) bool: unmasked shapes, polygons then circles (the entity index order)."""
+    return jnp.concatenate([obs.polygon_mask, obs.circle_mask], axis=-1)
+
+
+class PermutationInvariantMLP(nn.Module):
+    """Deep-sets baseline: per-type entity encoders, a masked mean per type, then actor and critic MLPs.
+
+    The readout concatenates the four per-type means (polygon, circle, joint, thruster) and the gravity:
+    4 * width + 2 values. Joint and thruster rows are pooled without their body indices.
+
+    Attributes:
+        action_type: one of `constants.ACTION_TYPES`.
+        width: entity embedding width d.
+        encoder_depth: layers per entity encoder.
+        hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation is shared).
+    """
+
+    action_type: str = "multi-discrete"
+    width: int = 128
+    encoder_depth: int = 2
+    hidden_width: int = 128
+    hidden_depth: int = 5
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
+        """obs: `EntityObservation` with leading batch shape ... -> (distribution, (...,) value)."""
+        polygons, circles, joints, thrusters = EntityEncoders(self.width, self.encoder_depth, self.activation)(obs)
+        pooled = [
+            masked_mean(polygons, obs.polygon_mask),
+            masked_mean(circles, obs.circle_mask),
+            masked_mean(joints, obs.joint_mask),
+            masked_mean(thrusters, obs.thruster_mask),
+            obs.gravity,
+        ]
+        x = jnp.concatenate(pooled, axis=-1)
+        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+
+
+class Gate(nn.Module):
+    """GRU-style gated residual (GTrXL, Parisotto et al. 2019): mixes the stream x with the update y.
+
+    g = (1 - z) * x + z * tanh(W_g y + U_g (r * x)), r = sigmoid(W_r y + U_r x), z = sigmoid(W_z y + U_z x - bias).
+    A positive `bias` starts the layer close to the identity.
+    """
+
+    bias: float = 2.0
+
+    @nn.compact
+    def __call__(self, x: jax.Array, y: jax.Array) -> jax.Array:
+        """x, y: (..., d) -> (..., d)."""
+        d = x.shape[-1]
+        dense = lambda name: nn.Dense(d, use_bias=False, name=name)  # noqa: E731
+        r = nn.sigmoid(dense("w_r")(y) + dense("u_r")(x))
+        bias = self.param("bias", nn.initializers.constant(self.bias), (d,))
+        z = nn.sigmoid(dense("w_z")(y) + dense("u_z")(x) - bias)
+        h = jnp.tanh(dense("w_g")(y) + dense("u_g")(r * x))
+        return (1.0 - z) * x + z * h
+
+
+class TransformerLayer(nn.Module):
+    """Pre-norm masked self-attention over shapes then a dense update, each joined by a `Gate`.
+
+    Attributes:
+        num_heads: attention heads; head size = d / num_heads.
+        gate_bias: see `Gate`.
+    """
+
+    num_heads: int = 8
+    gate_bias: float = 2.0
+
+    @nn.compact
+    def __call__(self, h: jax.Array, mask: jax.Array) -> jax.Array:
+        """h: (..., N, d) shape embeddings; mask: (..., num_heads, N, N) bool (query, key) -> (..., N, d)."""
+        d = h.shape[-1]
+        attention = nn.MultiHeadDotProductAttention(num_heads=self.num_heads, qkv_features=d, out_features=d)
+        y = attention(nn.LayerNorm(name="attention_norm")(h), mask=mask)
+        h = Gate(self.gate_bias, name="attention_gate")(h, nn.relu(y))
+        dense = nn.Dense(d, kernel_init=orthogonal(math.sqrt(2.0)), name="dense")
+        e = nn.relu(dense(nn.LayerNorm(name="dense_norm")(h)))
+        return Gate(self.gate_bias, name="dense_gate")(h, e)
+
+
+class EntityTransformer(nn.Module):
+    """The reference's default model: entity encoders, messages along joints and thrusters, gated attention.
+
+    1. Per-type encoders map shape, joint and thruster rows to width d.
+    2. Messages: each joint row's embedding is added to the embedding of its ``joint_dst`` shape (every joint
+       appears in both directions, so both shapes receive one) and each thruster's to its ``thruster_body``.
+    3. `num_layers` `TransformerLayer`s over the shapes; mask channel c of the observation's (4, N, N)
+       ``attention_mask`` drives heads [c * k, (c + 1) * k) with k = num_heads / 4.
+    4. Masked mean over shapes, concatenated with the gravity, into `ActorCriticHeads`.
+
+    Attributes:
+        action_type: one of `constants.ACTION_TYPES`.
+        width: embedding width d (128: 8 heads of size 16).
+        num_layers: transformer layers.
+        num_heads: attention heads, a multiple of 4.
+        encoder_depth: layers per entity encoder.
+        gate_bias: see `Gate`.
+        hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation also ends the encoders).
+    """
+
+    action_type: str = "multi-discrete"
+    width: int = 128
+    num_layers: int = 2
+    num_heads: int = 8
+    encoder_depth: int = 1
+    gate_bias: float = 2.0
+    hidden_width: int = 128
+    hidden_depth: int = 5
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
+        """obs: `EntityObservation` with leading batch shape ... -> (distribution, (...,) value)."""
+        if self.num_heads % NUM_ATTENTION_CHANNELS or self.width % self.num_heads:
+            raise ValueError(
+                f"num_heads must be a multiple of {NUM_ATTENTION_CHANNELS} that divides width, "
+                f"got num_heads={self.num_heads}, width={self.width}"
+            )
+        polygons, circles, joints, thrusters = EntityEncoders(self.width, self.encoder_depth, self.activation)(obs)
+        h = jnp.concatenate([polygons, circles], axis=-2)
+        mask = shape_mask(obs)
+        n = h.shape[-2]
+        # Messages: scatter-add as one-hot products, which batch over any leading shape.
+        h = h + jnp.einsum("...rn,...rd->...nd", jax.nn.one_hot(obs.joint_dst, n, dtype=h.dtype), joints)
+        h = h + jnp.einsum("...rn,...rd->...nd", jax.nn.one_hot(obs.thruster_body, n, dtype=h.dtype), thrusters)
+        h = jnp.where(mask[..., None], h, 0.0)
+        heads = jnp.repeat(obs.attention_mask, self.num_heads // NUM_ATTENTION_CHANNELS, axis=-3)
+        for i in range(self.num_layers):
+            h = TransformerLayer(self.num_heads, self.gate_bias, name=f"layer_{i}")(h, heads)
+            h = jnp.where(mask[..., None], h, 0.0)
+        x = jnp.concatenate([masked_mean(h, mask), obs.gravity], axis=-1)
+        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+
+
+def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
+    """The actor-critic of an experiment: `model` is its `model` section, `env` its `env` section (the action type
+    sets the heads, the observation the input). Raises ValueError for a model that cannot read the observation
+    (`constants.MODEL_OBSERVATIONS`; a validated `ExperimentConfig` never has one)."""
+    if env.observation not in MODEL_OBSERVATIONS[model.name]:
+        raise ValueError(f"model {model.name!r} cannot read {env.observation!r} observations")
+    heads = {"action_type": env.action, "hidden_width": model.width, "hidden_depth": model.actor_critic_layers}
+    if model.name == "flat-mlp":
+        return FlatMLP(observation=env.observation, **heads)
+    if model.name == "pi-mlp":
+        return PermutationInvariantMLP(width=model.width, **heads)
+    return EntityTransformer(width=model.width, num_layers=model.transformer_layers, num_heads=model.heads, **heads)
+
+
+def sampling_policy(network: nn.Module, params) -> Policy:
+    """The episode-runner policy that samples the network's action distribution at every step."""
+    return lambda key, obs, t: network.apply(params, obs)[0].sample(key)
+
+
+def parameter_count(params) -> int:
+    """Number of scalars in a parameter pytree."""
+    return sum(x.size for x in jax.tree.leaves(params))

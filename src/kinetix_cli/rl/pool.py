@@ -1,0 +1,36 @@
+"""The training levels of a run, as one batch on the device: level files, a level set, or levels generated at
+the start of the run (`levels.source` in the experiment config)."""
+
+from __future__ import annotations
+
+import jax
+import numpy as np
+
+from engine import SIZES
+from kinetix_cli.config import ExperimentConfig
+from kinetix_cli.env.level import Level, level_count, stack_levels, to_device
+from kinetix_cli.errors import UserError
+from kinetix_cli.generator.filters import generate_chunk, make_config
+from kinetix_cli.levels.files import load_level
+from kinetix_cli.levels.levelset import load_levelset
+
+
+def level_pool(config: ExperimentConfig) -> Level:
+    """The training levels as one batch of device arrays: level files (each with its own engine constants), a
+    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`)."""
+    settings, size = config.levels, config.env.size
+    if settings.source == "files":
+        return stack_levels([load_level(path).build(SIZES[size]) for path in settings.files])
+    if settings.source == "levelset":
+        levelset = load_levelset(settings.levelset)
+        if levelset.manifest["size"] != size:
+            raise UserError(f"{settings.levelset}: holds size-{levelset.manifest['size']} levels, env.size is {size}")
+        return to_device(levelset.levels)
+    generation = make_config(size)
+    chunks, kept, index = [], 0, 0
+    while kept < settings.pool_size:
+        levels, _ = generate_chunk(generation, config.run.seed, index)
+        chunks.append(levels)
+        kept += level_count(levels)
+        index += 1
+    return to_device(jax.tree.map(lambda *xs: np.concatenate(xs)[: settings.pool_size], *chunks))

@@ -1,0 +1,215 @@
+"""PPO, the PureJaxRL way: rollout, GAE and the update epochs in one jitted function over vmapped environments.
+
+`ppo_update(runner, env_params, levels, env=..., network=..., settings=...)` is one PPO update of
+`num_envs x num_steps` environment steps; the caller loops over updates (checkpoints, logging and resume live
+outside the jit). The environment, the network and the `PPOSettings` section are static arguments (all three are
+hashable by value), so every call with equal settings shares one compile; the level pool is an argument, so a new
+pool of the same shape does not recompile either.
+
+Episodes that end restart from a level drawn uniformly from `levels` by the environment's own auto-reset
+(`KinetixEnv.step`). Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
+transition bootstraps from the value of the final observation (`info["final_observation"]`, before the reset),
+so the cap does not look like a failure to the critic. Every transition stores `next_value` = V(observation after
+the step, before any reset); the GAE recursion stops at every episode boundary, and only true terminations (green
+touched blue or red, NaN) zero the bootstrap.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Any
+
+import flax.linen as nn
+import jax
+import jax.numpy as jnp
+import optax
+from flax import struct
+
+from kinetix_cli.config import PPOSettings
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Level, draw_level
+
+
+@struct.dataclass
+class Transition:
+    """One environment step of every env; a rollout stacks them to (num_steps, num_envs, ...)."""
+
+    obs: Any
+    action: jax.Array
+    log_prob: jax.Array
+    value: jax.Array  # V(obs)
+    next_value: jax.Array  # V(observation after the step, before the auto-reset)
+    reward: jax.Array
+    terminated: jax.Array  # the episode ended by the task (or NaN): no bootstrap
+    done: jax.Array  # terminated or truncated: the trace stops here
+    solved: jax.Array
+
+
+@struct.dataclass
+class Runner:
+    """The carry between updates: everything needed to continue training bit for bit.
+
+    Attributes:
+        params: network parameters.
+        opt_state: optimiser state.
+        env_state: batched environment state (num_envs, ...).
+        obs: the current batched observation.
+        episode_return: (num_envs,) return of the running episodes.
+        key: PRNG key.
+        update: () int32 updates done.
+    """
+
+    params: Any
+    opt_state: Any
+    env_state: Any
+    obs: Any
+    episode_return: jax.Array
+    key: jax.Array
+    update: jax.Array
+
+
+def make_optimizer(settings: PPOSettings) -> optax.GradientTransformation:
+    """Adam with global-norm gradient clipping; the learning rate decays linearly to 0 over the run when
+    `anneal_lr`, else stays constant."""
+    lr = settings.lr
+    if settings.anneal_lr:
+        total = settings.num_updates * settings.update_epochs * settings.num_minibatches
+        lr = lambda count: settings.lr * (1.0 - jnp.minimum(count, total) / total)  # noqa: E731
+    return optax.chain(optax.clip_by_global_norm(settings.max_grad_norm), optax.adam(lr, eps=settings.adam_eps))
+
+
+def gae(transitions: Transition, gamma: float, gae_lambda: float) -> tuple[jax.Array, jax.Array]:
+    """Generalised advantage estimates and value targets, both (num_steps, num_envs).
+
+    delta_t = r_t + gamma * next_value_t * (1 - terminated_t) - value_t;
+    A_t = delta_t + gamma * lambda * (1 - done_t) * A_{t+1}.
+    """
+
+    def backward(advantage, t: Transition):
+        delta = t.reward + gamma * t.next_value * (1.0 - t.terminated) - t.value
+        advantage = delta + gamma * gae_lambda * (1.0 - t.done) * advantage
+        return advantage, advantage
+
+    _, advantages = jax.lax.scan(backward, jnp.zeros_like(transitions.value[0]), transitions, reverse=True)
+    return advantages, advantages + transitions.value
+
+
+def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings: PPOSettings):
+    """Clipped policy loss + vf_coef * clipped value loss - ent_coef * entropy, and its parts."""
+    dist, value = apply_fn(params, batch.obs)
+    log_prob = dist.log_prob(batch.action)
+    if settings.normalise_advantages:
+        advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8)
+    ratio = jnp.exp(log_prob - batch.log_prob)
+    clipped_ratio = jnp.clip(ratio, 1.0 - settings.clip_eps, 1.0 + settings.clip_eps)
+    policy_loss = -jnp.minimum(ratio * advantages, clipped_ratio * advantages).mean()
+    value_clipped = batch.value + jnp.clip(value - batch.value, -settings.clip_eps, settings.clip_eps)
+    value_loss = 0.5 * jnp.maximum((value - targets) ** 2, (value_clipped - targets) ** 2).mean()
+    entropy = dist.entropy().mean()
+    total = policy_loss + settings.vf_coef * value_loss - settings.ent_coef * entropy
+    approx_kl = ((ratio - 1.0) - jnp.log(ratio)).mean()
+    return total, {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
+
+
+def reset_levels(levels: Level, key: jax.Array, count: int) -> Level:
+    """`count` levels drawn uniformly from the pool `levels`, one key each (the training level source)."""
+    return jax.vmap(draw_level, in_axes=(None, 0))(levels, jax.random.split(key, count))
+
+
+@functools.partial(jax.jit, static_argnums=(0, 1, 2))
+def init_runner(env: KinetixEnv, network: nn.Module, settings: PPOSettings, levels: Level, key: jax.Array) -> Runner:
+    """Fresh parameters, optimiser state and `settings.num_envs` environments reset to pool levels. Jitted (one
+    compile per settings): run op by op, the reset and the network init cost hundreds of small compiles."""
+    k_params, k_reset, key = jax.random.split(key, 3)
+    obs, env_state = jax.vmap(env.reset_to_level)(reset_levels(levels, k_reset, settings.num_envs))
+    params = network.init(k_params, obs)
+    return Runner(
+        params=params,
+        opt_state=make_optimizer(settings).init(params),
+        env_state=env_state,
+        obs=obs,
+        episode_return=jnp.zeros(settings.num_envs, jnp.float32),
+        key=key,
+        update=jnp.zeros((), jnp.int32),
+    )
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings"))
+def ppo_update(
+    runner: Runner,
+    env_params: EnvParams,
+    levels: Level,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+) -> tuple[Runner, dict]:
+    """One PPO update: collect `num_steps` steps in every env, GAE, then `update_epochs` passes of
+    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars)."""
+    optimizer = make_optimizer(settings)
+    batch_size = settings.batch_size
+
+    def env_step(runner: Runner, _):
+        # --- act
+        key, k_act, k_reset = jax.random.split(runner.key, 3)
+        dist, value = network.apply(runner.params, runner.obs)
+        action = dist.sample(k_act)
+        log_prob = dist.log_prob(action)
+        # --- step; ended episodes restart from pool levels
+        fresh = reset_levels(levels, k_reset, settings.num_envs)
+        step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
+        obs, env_state, reward, terminated, truncated, info = step(runner.env_state, action, env_params, fresh)
+        _, next_value = network.apply(runner.params, info["final_observation"])
+        done = terminated | truncated
+        transition = Transition(
+            obs=runner.obs,
+            action=action,
+            log_prob=log_prob,
+            value=value,
+            next_value=next_value,
+            reward=reward,
+            terminated=terminated.astype(jnp.float32),
+            done=done.astype(jnp.float32),
+            solved=info["solved"],
+        )
+        episode_return = runner.episode_return + reward
+        finished_return = jnp.where(done, episode_return, 0.0)
+        runner = runner.replace(
+            env_state=env_state, obs=obs, key=key, episode_return=jnp.where(done, 0.0, episode_return)
+        )
+        return runner, (transition, finished_return)
+
+    def update_minibatch(train, minibatch):
+        params, opt_state = train
+        batch, advantages, targets = minibatch
+        grad_fn = jax.value_and_grad(ppo_loss, argnums=1, has_aux=True)
+        (loss, parts), grads = grad_fn(network.apply, params, batch, advantages, targets, settings)
+        updates, opt_state = optimizer.update(grads, opt_state, params)
+        return (optax.apply_updates(params, updates), opt_state), dict(parts, loss=loss)
+
+    def update_epoch(carry, _):
+        params, opt_state, key, data = carry
+        key, k_perm = jax.random.split(key)
+        order = jax.random.permutation(k_perm, batch_size)
+        shuffled = jax.tree.map(lambda x: x.reshape((batch_size,) + x.shape[2:])[order], data)
+        minibatches = jax.tree.map(lambda x: x.reshape((settings.num_minibatches, -1) + x.shape[1:]), shuffled)
+        (params, opt_state), losses = jax.lax.scan(update_minibatch, (params, opt_state), minibatches)
+        return (params, opt_state, key, data), losses
+
+    # --- collect
+    runner, (transitions, finished_return) = jax.lax.scan(env_step, runner, None, length=settings.num_steps)
+    # --- GAE
+    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
+    # --- update epochs
+    key, k_epochs = jax.random.split(runner.key)
+    carry = (runner.params, runner.opt_state, k_epochs, (transitions, advantages, targets))
+    (params, opt_state, _, _), losses = jax.lax.scan(update_epoch, carry, None, length=settings.update_epochs)
+    runner = runner.replace(params=params, opt_state=opt_state, key=key, update=runner.update + 1)
+    episodes = transitions.done.sum()
+    metrics = {
+        "episodes": episodes,
+        "return": finished_return.sum() / jnp.maximum(episodes, 1.0),
+        "solve_rate": transitions.solved.sum() / jnp.maximum(episodes, 1.0),
+        **jax.tree.map(jnp.mean, losses),
+    }
+    return runner, metrics

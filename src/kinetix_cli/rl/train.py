@@ -1,0 +1,197 @@
+"""Training runs on disk: `train(config, run_dir)` builds the level pool, the environment and the network, then
+loops PPO updates (`kinetix_cli.rl.ppo`) with metrics, evaluation, checkpoints and resume.
+
+A run directory holds:
+- `config.yaml`: the resolved experiment config (`kinetix-experiment/1`);
+- `versions.json`: library versions and machine;
+- `metrics.jsonl`: one JSON object per update (update, env steps, SPS, return, solve rate, losses; every
+  `run.eval_every` updates also `eval_solve_rate` and `eval_return` on `run.eval_levels`);
+- `checkpoints/<update>/`: orbax checkpoints of the whole training state (`kinetix_cli.rl.checkpoints`), every
+  `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one and, because the
+  whole state is saved, reaches the same parameters as an uninterrupted run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, config_to_dict, load_config, save_config
+from kinetix_cli.constants import VERSIONS_FORMAT
+from kinetix_cli.env.factory import make_env
+from kinetix_cli.env.level import Level
+from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write_json
+from kinetix_cli.levels.files import level_paths, load_level
+from kinetix_cli.provenance import environment_info
+from kinetix_cli.rl.checkpoints import checkpoint_manager, load_policy, restore_runner, save_runner
+from kinetix_cli.rl.evaluate import Evaluator
+from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.pool import level_pool
+from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
+
+METRICS_FILE = "metrics.jsonl"
+VERSIONS_FILE = "versions.json"
+INHERITED_ENV = ("observation", "action", "frame_skip")
+"""What a fine-tuned agent keeps of its pre-training run's `env` section (besides the whole `model` section): what
+it sees, how it acts and how often."""
+
+
+def train(
+    config: ExperimentConfig,
+    run_dir: str | Path,
+    resume: bool = False,
+    progress: Callable[[dict], None] | None = None,
+    pool: Level | None = None,
+    init_params=None,
+) -> Runner:
+    """Train (or resume) a run in `run_dir`; returns the final training state.
+
+    Args:
+        config: the experiment.
+        run_dir: the run's folder (new or empty, or the run to resume).
+        resume: continue from the latest checkpoint.
+        progress: called with each update's metrics record.
+        pool: the training levels (default: `level_pool(config)`).
+        init_params: initial network parameters (fine-tuning); default: those of the checkpoint named by
+            `run.init_from`, else freshly initialised.
+    """
+    run_dir = Path(run_dir)
+    if not resume and run_dir.exists() and any(run_dir.iterdir()):
+        raise UserError(f"--run-dir {run_dir}: not empty; pass --resume to continue it or choose a new folder")
+    evaluator = _evaluator(config)  # bad evaluation levels fail here, before anything is written
+    run_dir.mkdir(parents=True, exist_ok=True)
+    saved = run_dir / CONFIG_FILENAME
+    if resume and saved.exists() and load_config(saved) != config:
+        raise UserError(f"--resume: {saved} differs from the config given; resume with the run's own config")
+    save_config(config, saved)
+    atomic_write_json(run_dir / VERSIONS_FILE, environment_info(), VERSIONS_FORMAT)
+
+    pool = level_pool(config) if pool is None else pool
+    env, env_params = make_env(config.env)
+    network = make_network(config.model, config.env)
+    settings = config.ppo
+    update = functools.partial(ppo_update, env=env, network=network, settings=settings)
+    runner = init_runner(env, network, settings, pool, jax.random.key(config.run.seed))
+    if init_params is None and config.run.init_from:
+        init_params = load_policy(config.run.init_from)[1]
+    if init_params is not None:
+        runner = _with_params(runner, init_params, settings)
+
+    manager = checkpoint_manager(run_dir)
+    start = 0
+    if resume and manager.latest_step() is not None:
+        start = int(manager.latest_step())
+        runner = restore_runner(manager, start, runner)
+        _truncate_metrics(run_dir / METRICS_FILE, start)
+
+    logger = _wandb_run(config, run_dir, resume)
+    with open(run_dir / METRICS_FILE, "a") as log:
+        for u in range(start, settings.num_updates):
+            tic = time.perf_counter()
+            runner, metrics = update(runner, env_params, pool)
+            metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
+            seconds = time.perf_counter() - tic
+            steps = (u + 1) * settings.batch_size
+            record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
+            last = u + 1 == settings.num_updates
+            if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or last):
+                record |= _evaluation(evaluator, runner.params, config.run.seed)
+            log.write(json.dumps(record) + "\n")
+            log.flush()
+            every = config.run.checkpoint_every
+            if (every and (u + 1) % every == 0) or last:
+                save_runner(manager, u + 1, runner)
+            if logger is not None:
+                logger.log(record, step=steps)
+            if progress is not None:
+                progress(record)
+    if logger is not None:
+        logger.finish()
+    return runner
+
+
+def finetune_config(
+    path: Path, files: list[Path], pretrained: ExperimentConfig | None, overrides: list[str] | tuple[str, ...] = ()
+) -> ExperimentConfig:
+    """The experiment of `kinetix finetune`: the config file `path`, training on and evaluating on the level
+    `files` (one size), with the model and `INHERITED_ENV` of the `pretrained` run's config (None: from scratch);
+    `overrides` (`--set`) win over all of it."""
+    sizes = {load_level(file).default_size() for file in files}
+    if len(sizes) != 1:
+        raise UserError(f"finetune: the levels have sizes {', '.join(sorted(sizes))}; give levels of one size")
+    listed = "[" + ", ".join(str(file) for file in files) + "]"
+    settings = [f"env.size={sizes.pop()}", "levels.source=files", f"levels.files={listed}"]
+    settings += [f"run.eval_levels={listed}"]  # evaluate on the fine-tuning levels
+    if pretrained is not None:
+        inherited = config_to_dict(pretrained)
+        settings += [f"env.{key}={inherited['env'][key]}" for key in INHERITED_ENV]
+        settings += [f"model.{key}={value}" for key, value in inherited["model"].items()]
+    return load_config(path, [*settings, *overrides])
+
+
+def _with_params(runner: Runner, params, settings) -> Runner:
+    """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match."""
+    if jax.tree.structure(params) != jax.tree.structure(runner.params) or any(
+        a.shape != b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(runner.params), strict=True)
+    ):
+        raise UserError("--from: the checkpoint's network does not match this run's model settings")
+    params = jax.tree.map(jnp.asarray, params)
+    return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
+
+
+def _evaluator(config: ExperimentConfig) -> Evaluator | None:
+    """The evaluator of `run.eval_levels` (loaded once), or None when training does not evaluate."""
+    if not (config.run.eval_every and config.run.eval_levels):
+        return None
+    return Evaluator(config, level_paths(config.run.eval_levels), config.run.eval_attempts)
+
+
+def _evaluation(evaluator: Evaluator, params, seed: int) -> dict:
+    """Mean solve rate and return over the evaluation levels, for the metrics record. The sampling seed is the
+    run's, so a resumed run evaluates exactly as an uninterrupted one."""
+    results = evaluator(params, seed)
+    return {
+        "eval_solve_rate": float(np.mean([r.solve_rate for r in results])),
+        "eval_return": float(np.mean([r.mean_return for r in results])),
+    }
+
+
+def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
+    """A wandb run when `run.wandb` is 'offline' or 'online', else None. wandb is optional: if it cannot start
+    (not installed, no network), training goes on with a warning; metrics.jsonl is always written."""
+    if config.run.wandb == "off":
+        return None
+    try:
+        import wandb  # optional and slow to import: only when asked for
+
+        return wandb.init(
+            project="kinetix",
+            name=run_dir.name,
+            dir=str(run_dir),
+            mode=config.run.wandb,
+            config=dataclasses.asdict(config),
+            resume="allow" if resume else None,
+        )
+    except Exception as exc:  # any failure to start logging must not stop training
+        warnings.warn(
+            f"wandb did not start ({type(exc).__name__}: {exc}); metrics go to metrics.jsonl only", stacklevel=2
+        )
+        return None
+
+
+def _truncate_metrics(path: Path, last_update: int) -> None:
+    """Drop metric lines written after the checkpoint a run resumes from."""
+    if not path.exists():
+        return
+    lines = [line for line in path.read_text().splitlines() if line and json.loads(line)["update"] <= last_update]
+    path.write_text("".join(line + "\n" for line in lines))

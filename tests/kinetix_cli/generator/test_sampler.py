@@ -1,0 +1,96 @@
+"""The level sampler: every sampled level is a valid, well-formed task, and sampling is pure."""
+
+from __future__ import annotations
+
+import functools
+
+import chex
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import engine
+from engine import NUM_ARENA_POLYGONS, SIZES, Params, rotate
+from kinetix_cli.constants import BLUE, GREEN, RED
+from kinetix_cli.generator.sampler import default_config, is_valid, sample_level
+
+BATCH = 64
+
+
+@functools.cache
+def sampler(size: str):
+    static = SIZES[size]
+    return jax.jit(jax.vmap(functools.partial(sample_level, static, default_config(size))))
+
+
+@functools.cache
+def batch(size: str):
+    keys = jax.random.split(jax.random.key(7), BATCH)
+    return jax.device_get(sampler(size)(keys))
+
+
+SIZES_UNDER_TEST = ["s", "m", pytest.param("l", marks=pytest.mark.slow)]
+
+
+@pytest.mark.parametrize("size", SIZES_UNDER_TEST)
+def test_every_level_is_a_valid_task(size):
+    static = SIZES[size]
+    levels = batch(size)
+    assert jax.jit(jax.vmap(functools.partial(is_valid, static)))(levels).all()
+    bodies = levels.physics.bodies
+    shapes = bodies.active.copy()
+    shapes[:, :NUM_ARENA_POLYGONS] = False
+    assert ((shapes & (bodies.role == GREEN)).sum(1) == 1).all()
+    assert ((shapes & (bodies.role == BLUE)).sum(1) == 1).all()
+    red = (shapes & (bodies.role == RED)).sum(1) + (bodies.role[:, 0] == RED)
+    assert (red <= 1).all(), "at most one red entity (the floor counts)"
+    pos = bodies.position[shapes]
+    assert ((pos > 0) & (pos < 5)).all() and (pos[:, 1] > 0.4).all(), "shapes start inside the arena"
+    assert not (shapes & ~np.isin(bodies.role, [0, 1, 2, 3])).any()
+    if size == "s":
+        assert not (shapes & bodies.fixed).any(), "nothing is fixed at size s"
+    goal = shapes & np.isin(bodies.role, [GREEN, BLUE])
+    assert (goal & ~bodies.fixed).any(1).all(), "green or blue can move"
+
+
+@pytest.mark.parametrize("size", SIZES_UNDER_TEST)
+def test_joints_and_thrusters_attach_to_active_bodies(size):
+    levels = batch(size)
+    physics, bindings = levels.physics, levels.bindings
+    joints, thrusters, bodies = physics.joints, physics.thrusters, physics.bodies
+    rows = np.arange(BATCH)[:, None]
+    for body in (joints.body_a, joints.body_b):
+        assert (bodies.active[rows, body] | ~joints.active).all()
+    assert (bodies.active[rows, thrusters.body] & ~bodies.fixed[rows, thrusters.body] | ~thrusters.active).all()
+    # both anchors of a joint are the same world point when the level starts (the shuffle kept them attached)
+    world = lambda body, anchor: bodies.position[rows, body] + rotate(anchor, bodies.angle[rows, body], np)  # noqa: E731
+    gap = np.linalg.norm(world(joints.body_a, joints.anchor_a) - world(joints.body_b, joints.anchor_b), axis=-1)
+    assert (gap[joints.active] < 1e-4).all()
+    assert ((bindings.motor >= 0) & (bindings.motor < 4)).all() and (
+        (bindings.thruster >= 0) & (bindings.thruster < 2)
+    ).all()
+
+
+def test_sampling_is_pure_and_compiles_once():
+    static = SIZES["s"]
+
+    @jax.jit
+    @chex.assert_max_traces(n=1)
+    def one(key):
+        return sample_level(static, default_config("s"), key)
+
+    a, b, again = one(jax.random.key(1)), one(jax.random.key(2)), one(jax.random.key(1))
+    chex.assert_trees_all_equal(a, again)
+    assert not np.array_equal(a.physics.bodies.position, b.physics.bodies.position)
+
+
+def test_generated_scenes_simulate_without_nan():
+    static = SIZES["m"]
+    levels = batch("m")
+    step = jax.jit(jax.vmap(functools.partial(engine.step, static, Params())))
+    physics = levels.physics
+    actions = jnp.ones((BATCH, static.num_joints + static.num_thrusters))
+    for _ in range(60):
+        physics, _ = step(physics, actions)
+    assert np.isfinite(np.asarray(physics.bodies.position)).all()

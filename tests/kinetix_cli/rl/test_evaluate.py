@@ -1,0 +1,51 @@
+"""Evaluation plays a policy in its run's own environment, with each level's own engine constants."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from helpers.levels import FALL
+from helpers.runs import tiny_config
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.evaluate import Evaluator, suite_summary
+
+
+@pytest.fixture(scope="module")
+def fall_levels(tmp_path_factory):
+    """FALL as it is, and with the engine time step doubled in the level file."""
+    folder = tmp_path_factory.mktemp("fall")
+    (folder / "fall.json").write_text(json.dumps(FALL))
+    (folder / "fall-fast.json").write_text(json.dumps(FALL | {"params": {"dt": 2 / 60}}))
+    return [folder / "fall.json", folder / "fall-fast.json"]
+
+
+def test_episodes_run_at_the_runs_frame_skip_and_the_levels_time_step(tiny_run, fall_levels):
+    """The green ball needs the same simulated time to land whatever the policy does, so the episode length in
+    environment steps halves with frame skip 4 (the tiny run's) and again with a doubled dt (the level file's)."""
+    config, params, _ = load_policy(tiny_run)
+    assert config.env.frame_skip == 4
+    lengths = {}
+    for frame_skip in (2, 4):
+        run_config = tiny_config(f"env.frame_skip={frame_skip}")
+        normal, fast = Evaluator(run_config, fall_levels, attempts=2)(params)
+        assert normal.solve_rate == fast.solve_rate == 1.0
+        lengths[frame_skip] = (normal.mean_length, fast.mean_length)
+    (l2, l2_fast), (l4, l4_fast) = lengths[2], lengths[4]
+    assert l2 > 15  # ~0.6 s of fall and settling at 2 x 1/60 s per step
+    assert l4 <= 0.6 * l2 and l2_fast <= 0.6 * l2 and l4_fast <= 0.35 * l2
+
+
+def test_a_flat_observation_policy_plays_its_own_size_only(fall_levels):
+    config = tiny_config("env.observation=symbolic-flat", "model.name=flat-mlp", "env.size=m")
+    with pytest.raises(UserError, match="a size-s level; this policy reads symbolic-flat observations of size m"):
+        Evaluator(config, fall_levels, attempts=1)
+
+
+def test_suite_summary_means_per_folder(tiny_run, fall_levels):
+    config, params, _ = load_policy(tiny_run)
+    results = Evaluator(config, fall_levels, attempts=2)(params)
+    summary = suite_summary(results)
+    assert summary["all"]["levels"] == 2 and summary[str(fall_levels[0].parent)]["solve_rate"] == 1.0

@@ -1,0 +1,246 @@
+"""Networks and distributions: hand-worked distribution values, output shapes per model and action type on
+real observations, masked rows and slot order that do not change the output, and size independence."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from engine import SIZES
+from kinetix_cli.bench.env import random_levels
+from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
+from kinetix_cli.constants import ACTION_TYPES, MODEL_NAMES, MODEL_OBSERVATIONS, OBSERVATION_TYPES
+from kinetix_cli.env.environment import KinetixEnv
+from kinetix_cli.env.level import index_level
+from kinetix_cli.rl.distributions import Categorical, DiagGaussian, MultiCategorical
+from kinetix_cli.rl.networks import make_network, parameter_count
+
+NVEC = (3, 3, 3, 3, 2, 2)
+BATCH = 3
+ACTION_ENCODING = {"multi-discrete": ((6,), jnp.int32), "discrete": ((), jnp.int32), "continuous": ((6,), jnp.float32)}
+MODEL_OBSERVATION_PAIRS = [(m, o) for m in MODEL_NAMES for o in MODEL_OBSERVATIONS[m]]
+REFUSED_PAIRS = [(m, o) for m in MODEL_NAMES for o in OBSERVATION_TYPES if o not in MODEL_OBSERVATIONS[m]]
+
+
+@functools.cache
+def observations(size: str, observation: str):
+    """(BATCH,) batched reset observations of random levels of `size`."""
+    static = SIZES[size]
+    env = KinetixEnv(static, observation=observation)
+    levels = random_levels(static, 4, 0)
+    return jax.jit(jax.vmap(lambda i: env.reset_to_level(index_level(levels, i))[0]))(jnp.arange(BATCH))
+
+
+def tiny(model: str, action_type: str = "multi-discrete", observation: str | None = None):
+    settings = ModelSettings(name=model, width=16, actor_critic_layers=2, heads=4)
+    env = EnvSettings(size="s", observation=observation or MODEL_OBSERVATIONS[model][0], action=action_type)
+    return make_network(settings, env)
+
+
+# --- distributions ---------------------------------------------------------------------------------------
+def test_categorical_by_hand():
+    uniform = Categorical(jnp.zeros(3))
+    np.testing.assert_allclose(uniform.entropy(), math.log(3), rtol=1e-6)
+    np.testing.assert_allclose(uniform.log_prob(jnp.int32(2)), -math.log(3), rtol=1e-6)
+    skewed = Categorical(jnp.log(jnp.array([0.5, 0.25, 0.25])))
+    np.testing.assert_allclose(skewed.entropy(), 1.5 * math.log(2), rtol=1e-6)
+    np.testing.assert_allclose(skewed.log_prob(jnp.array([0, 1])), [math.log(0.5), math.log(0.25)], rtol=1e-6)
+    assert skewed.mode() == 0 and skewed.mode().dtype == jnp.int32
+    samples = jax.vmap(skewed.sample)(jax.random.split(jax.random.key(0), 4000))
+    np.testing.assert_allclose(np.bincount(np.asarray(samples), minlength=3) / 4000, [0.5, 0.25, 0.25], atol=0.03)
+
+
+def test_multi_categorical_masks_padding():
+    dist = MultiCategorical.from_flat(jnp.zeros((2, 18)), NVEC)
+    assert dist.logits.shape == (2, 6, 3)
+    np.testing.assert_allclose(dist.entropy(), [4 * math.log(3) + 2 * math.log(2)] * 2, rtol=1e-6)
+    action = jnp.array([[0, 1, 2, 0, 1, 0], [2, 2, 2, 2, 1, 1]], jnp.int32)
+    np.testing.assert_allclose(dist.log_prob(action), [-(4 * math.log(3) + 2 * math.log(2))] * 2, rtol=1e-6)
+    samples = jax.vmap(dist.sample)(jax.random.split(jax.random.key(0), 500))
+    assert samples.shape == (500, 2, 6) and samples.dtype == jnp.int32
+    assert np.all(np.asarray(samples) < np.asarray(NVEC))
+    assert np.asarray(samples[..., 4:]).max() == 1 and np.asarray(samples[..., :4]).max() == 2
+
+    def loss(flat):
+        d = MultiCategorical.from_flat(flat, NVEC)
+        return jnp.sum(d.entropy() + d.log_prob(action))
+
+    grad = jax.grad(loss)(jax.random.normal(jax.random.key(1), (2, 18)))
+    assert np.all(np.isfinite(grad))
+    assert np.all(np.asarray(grad).reshape(2, 6, 3)[:, 4:, 2] == 0.0)
+
+
+def test_diag_gaussian_by_hand():
+    dist = DiagGaussian(jnp.array([0.0, 1.0]), jnp.log(jnp.array([1.0, 2.0])))
+    half_log_2pi = 0.5 * math.log(2 * math.pi)
+    expected = (-0.5 * 0.5**2 - half_log_2pi) + (-0.5 * 0.25**2 - math.log(2) - half_log_2pi)
+    np.testing.assert_allclose(dist.log_prob(jnp.array([0.5, 1.5])), expected, rtol=1e-6)
+    np.testing.assert_allclose(dist.entropy(), math.log(2 * math.pi * math.e) + math.log(2), rtol=1e-6)
+    np.testing.assert_array_equal(dist.mode(), [0.0, 1.0])
+    samples = jax.vmap(dist.sample)(jax.random.split(jax.random.key(0), 4000))
+    np.testing.assert_allclose(samples.std(0), [1.0, 2.0], rtol=0.05)
+
+
+# --- models ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("action_type", ACTION_TYPES)
+@pytest.mark.parametrize(("model", "observation"), MODEL_OBSERVATION_PAIRS)
+def test_output_shapes(model, observation, action_type):
+    """Value (B,) and actions in the encoding of `kinetix_cli.env.actions`, traced on real observations, for
+    every model with every observation it reads (flat-mlp flattens the pixel image: one value per env)."""
+    obs = observations("s", observation)
+    net = tiny(model, action_type, observation)
+
+    def run(obs):
+        params = net.init(jax.random.key(0), obs)
+        dist, value = net.apply(params, obs)
+        action = dist.sample(jax.random.key(1))
+        return value, action, dist.mode(), dist.log_prob(action), dist.entropy()
+
+    value, action, mode, log_prob, entropy = jax.eval_shape(run, obs)
+    shape, dtype = ACTION_ENCODING[action_type]
+    assert value.shape == log_prob.shape == entropy.shape == (BATCH,)
+    assert action.shape == mode.shape == (BATCH, *shape)
+    assert action.dtype == mode.dtype == dtype
+
+
+@pytest.mark.parametrize(("model", "observation"), REFUSED_PAIRS)
+def test_a_model_that_cannot_read_the_observation_is_refused_in_one_line(model, observation):
+    """Every model/observation pair works (`test_output_shapes`) or is refused: by the config, in one line naming
+    both keys, and by `make_network`."""
+    env = EnvSettings(observation=observation)
+    with pytest.raises(ConfigError, match=f"model.name: '{model}' needs env.observation") as info:
+        ExperimentConfig(env=env, model=ModelSettings(name=model), ppo=PPOSettings(total_timesteps=10**6))
+    assert "\n" not in str(info.value)
+    with pytest.raises(ValueError, match="cannot read"):
+        make_network(ModelSettings(name=model), env)
+
+
+def test_default_parameter_counts():
+    """Default sizes (5 x 128 actor and critic, width 128); the reference transformer has ~786K."""
+    counts = {}
+    for model in MODEL_NAMES:
+        obs = observations("s", MODEL_OBSERVATIONS[model][0])
+        net = make_network(ModelSettings(name=model), EnvSettings(observation=MODEL_OBSERVATIONS[model][0]))
+        counts[model] = parameter_count(jax.eval_shape(net.init, jax.random.key(0), obs))
+    assert counts == {"flat-mlp": 170_643, "pi-mlp": 342_675, "transformer": 738_195}
+
+
+@functools.cache
+def entity_model(model: str):
+    """(jitted apply returning (logits, value), params) of a tiny entity model initialised on size s."""
+    net = tiny(model)
+    params = jax.jit(net.init)(jax.random.key(0), observations("s", "symbolic-entity"))
+
+    @jax.jit
+    def apply(params, obs):
+        dist, value = net.apply(params, obs)
+        return dist.logits, value
+
+    return apply, params
+
+
+ENTITY_MODELS = ("pi-mlp", "transformer")
+
+
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_initial_policy_is_near_uniform(model):
+    apply, params = entity_model(model)
+    logits, value = apply(params, observations("s", "symbolic-entity"))
+    assert np.all(np.isfinite(value))
+    np.testing.assert_allclose(MultiCategorical(logits).entropy(), 4 * math.log(3) + 2 * math.log(2), atol=0.01)
+
+
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_masked_rows_do_not_change_the_output(model):
+    obs = observations("s", "symbolic-entity")
+    apply, params = entity_model(model)
+    # Mask joint 0 (both directions) in every scene; its rows then hold whatever they like.
+    joint_mask = obs.joint_mask.at[:, 0].set(False).at[:, 1].set(False)
+    base = obs.replace(joint_mask=joint_mask)
+    noise = lambda key, x: x + 10.0 * jax.random.normal(key, x.shape)  # noqa: E731
+    k1, k2, k3 = jax.random.split(jax.random.key(3), 3)
+    perturbed = base.replace(
+        polygons=jnp.where(obs.polygon_mask[..., None], obs.polygons, noise(k1, obs.polygons)),
+        joints=jnp.where(joint_mask[..., None], obs.joints, noise(k2, obs.joints)),
+        joint_src=jnp.zeros_like(obs.joint_src),
+        joint_dst=jnp.where(joint_mask, obs.joint_dst, 1),
+    )
+    assert not np.all(obs.polygon_mask)
+    for want, got in zip(apply(params, base), apply(params, perturbed), strict=True):
+        np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-6)
+    # The unmasked rows do matter.
+    moved = base.replace(polygons=jnp.where(obs.polygon_mask[..., None], noise(k3, obs.polygons), obs.polygons))
+    assert not np.allclose(apply(params, moved)[1], apply(params, base)[1])
+
+
+def permute_entities(obs, polygon_order, circle_order, joint_order, thruster_order):
+    """The same scenes with the entity slots of a batched `EntityObservation` reordered (new slot i = old order[i])."""
+    p = obs.polygons.shape[1]
+    old_of_new = np.concatenate([polygon_order, p + np.asarray(circle_order)])
+    new_of_old = jnp.asarray(np.argsort(old_of_new))
+    return obs.replace(
+        polygons=obs.polygons[:, polygon_order],
+        circles=obs.circles[:, circle_order],
+        polygon_mask=obs.polygon_mask[:, polygon_order],
+        circle_mask=obs.circle_mask[:, circle_order],
+        joints=obs.joints[:, joint_order],
+        joint_mask=obs.joint_mask[:, joint_order],
+        joint_src=new_of_old[obs.joint_src[:, joint_order]],
+        joint_dst=new_of_old[obs.joint_dst[:, joint_order]],
+        thrusters=obs.thrusters[:, thruster_order],
+        thruster_mask=obs.thruster_mask[:, thruster_order],
+        thruster_body=new_of_old[obs.thruster_body[:, thruster_order]],
+        attention_mask=obs.attention_mask[:, :, old_of_new][:, :, :, old_of_new],
+    )
+
+
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_slot_order_does_not_change_the_output(model):
+    obs = observations("s", "symbolic-entity")
+    apply, params = entity_model(model)
+    shuffled = permute_entities(obs, [4, 2, 0, 3, 1], [1, 0], [1, 0], [0])
+    assert not np.array_equal(shuffled.polygons, obs.polygons)
+    for want, got in zip(apply(params, obs), apply(params, shuffled), strict=True):
+        np.testing.assert_allclose(got, want, rtol=1e-4, atol=1e-5)
+
+
+def test_transformer_params_work_across_sizes():
+    """Params initialised on size s apply to size m observations, and their tree is the one m would build."""
+    apply, params = entity_model("transformer")
+    obs_m = observations("m", "symbolic-entity")
+    assert jax.tree.structure(params) == jax.tree.structure(
+        jax.eval_shape(tiny("transformer").init, jax.random.key(0), obs_m)
+    )
+    logits, value = apply(params, obs_m)
+    assert logits.shape == (BATCH, 6, 3) and value.shape == (BATCH,)
+    assert np.all(np.isfinite(value))
+
+
+def test_batched_apply_matches_one_observation():
+    apply, params = entity_model("transformer")
+    obs = observations("s", "symbolic-entity")
+    one = jax.tree.map(lambda x: x[1], obs)
+    dist, value = tiny("transformer").apply(params, one)
+    batched_logits, batched_value = apply(params, obs)
+    np.testing.assert_allclose(value, batched_value[1], rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(dist.logits, batched_logits[1], rtol=1e-5, atol=1e-6)
+
+
+def test_gradients_are_finite_through_masks():
+    """-inf padding logits and fully masked attention rows leave every gradient finite."""
+    obs = observations("s", "symbolic-entity")
+    net = tiny("transformer")
+    _, params = entity_model("transformer")
+
+    def loss(params):
+        dist, value = net.apply(params, obs)
+        action = dist.sample(jax.random.key(2))
+        return jnp.sum(dist.log_prob(action) + 0.01 * dist.entropy() + value**2)
+
+    grads = jax.jit(jax.grad(loss))(params)
+    assert all(np.all(np.isfinite(g)) for g in jax.tree.leaves(grads))

@@ -1,0 +1,92 @@
+"""PPO pieces with hand-worked numbers: GAE with terminations and truncations, and the clipped losses."""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from kinetix_cli.config import PPOSettings
+from kinetix_cli.rl.ppo import Transition, gae, ppo_loss
+
+
+def _transitions(terminated, done):
+    column = lambda xs: jnp.asarray(xs, jnp.float32)[:, None]  # noqa: E731  (num_steps, 1 env)
+    zeros = column([0.0, 0.0, 0.0])
+    return Transition(
+        obs=zeros,
+        action=zeros,
+        log_prob=zeros,
+        value=column([0.5, 0.2, 0.1]),
+        next_value=column([0.2, 0.1, 0.3]),
+        reward=column([1.0, 0.0, 2.0]),
+        terminated=column(terminated),
+        done=column(done),
+        solved=zeros,
+    )
+
+
+def test_gae_stops_at_a_termination():
+    # gamma = lambda = 0.5. t=2: delta = 2 - 0.1 = 1.9 (terminated: no bootstrap);
+    # t=1: delta = 0 + 0.5 * 0.1 - 0.2 = -0.15, A = -0.15 + 0.25 * 1.9 = 0.325;
+    # t=0: delta = 1 + 0.5 * 0.2 - 0.5 = 0.6, A = 0.6 + 0.25 * 0.325 = 0.68125.
+    advantages, targets = gae(_transitions([0, 0, 1], [0, 0, 1]), 0.5, 0.5)
+    np.testing.assert_allclose(advantages[:, 0], [0.68125, 0.325, 1.9], rtol=1e-6)
+    np.testing.assert_allclose(targets[:, 0], [1.18125, 0.525, 2.0], rtol=1e-6)
+
+
+def test_gae_bootstraps_a_truncated_episode():
+    # t=2 truncated: delta = 2 + 0.5 * 0.3 - 0.1 = 2.05 (bootstrapped); the trace still stops there.
+    advantages, _ = gae(_transitions([0, 0, 0], [0, 0, 1]), 0.5, 0.5)
+    np.testing.assert_allclose(advantages[:, 0], [0.690625, 0.3625, 2.05], rtol=1e-6)
+
+
+def test_gae_does_not_leak_across_episodes():
+    # An episode ends at t=1 (done); A_1 must not see A_2.
+    advantages, _ = gae(_transitions([0, 1, 0], [0, 1, 0]), 0.5, 0.5)
+    assert advantages[1, 0] == pytest.approx(0.0 - 0.2)
+
+
+class _FixedDist:
+    def __init__(self, log_prob, entropy):
+        self._log_prob, self._entropy = log_prob, entropy
+
+    def log_prob(self, action):
+        return self._log_prob
+
+    def entropy(self):
+        return self._entropy
+
+
+def test_clipped_losses_by_hand():
+    hp = PPOSettings(
+        num_envs=1,
+        num_steps=2,
+        num_minibatches=1,
+        clip_eps=0.2,
+        ent_coef=0.01,
+        vf_coef=0.5,
+        total_timesteps=2,
+        normalise_advantages=False,
+    )
+    batch = Transition(
+        obs=jnp.zeros(2),
+        action=jnp.zeros(2),
+        log_prob=jnp.log(jnp.array([0.5, 0.5])),
+        value=jnp.array([1.0, 1.0]),
+        next_value=jnp.zeros(2),
+        reward=jnp.zeros(2),
+        terminated=jnp.zeros(2),
+        done=jnp.zeros(2),
+        solved=jnp.zeros(2),
+    )
+    # new probabilities 0.8 and 0.2: ratios 1.6 and 0.4, clipped to 1.2 and 0.8.
+    new = _FixedDist(jnp.log(jnp.array([0.8, 0.2])), jnp.array([1.0, 1.0]))
+    apply_fn = lambda params, obs: (new, jnp.array([2.0, 0.5]))  # noqa: E731
+    advantages, targets = jnp.array([1.0, -1.0]), jnp.array([1.5, 1.5])
+    total, parts = ppo_loss(apply_fn, None, batch, advantages, targets, hp)
+    # policy: -mean(min(1.6 * 1, 1.2 * 1), min(0.4 * -1, 0.8 * -1)) = -mean(1.2, -0.8) = -0.2
+    assert float(parts["policy_loss"]) == pytest.approx(-0.2, rel=1e-5)
+    # value: clipped values 1.2 and 0.8; losses max((2-1.5)^2, (1.2-1.5)^2) = 0.25, max(1, 0.49) = 1 -> 0.5 * 0.625
+    assert float(parts["value_loss"]) == pytest.approx(0.3125, rel=1e-5)
+    assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5)

@@ -1,0 +1,132 @@
+"""Training runs on disk: metrics and checkpoints are written, a resumed run ends where an uninterrupted one does,
+bit for bit, and the run's evaluations are those of `kinetix eval`. Every run here is the tiny run of
+`helpers.runs` (one compiled update for the whole session)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import jax
+import numpy as np
+import pytest
+
+from helpers.paths import EXPERIMENTS, LEVELS
+from helpers.runs import EVAL_LEVEL, tiny_config
+from kinetix_cli.config import load_config
+from kinetix_cli.env.level import level_count
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.evaluate import evaluate
+from kinetix_cli.rl.pool import level_pool
+from kinetix_cli.rl.train import finetune_config, train
+
+
+class Crash(Exception):
+    pass
+
+
+def metrics(run_dir) -> list[dict]:
+    return [json.loads(line) for line in (run_dir / "metrics.jsonl").read_text().splitlines()]
+
+
+def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny_run, tiny_pool):
+    def crash_after_3(record):
+        if record["update"] == 3:
+            raise Crash
+
+    config = tiny_config()
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", pool=tiny_pool, progress=crash_after_3)
+    assert sorted(p.name for p in (tmp_path / "cut" / "checkpoints").iterdir()) == ["2"]
+    resumed = train(config, tmp_path / "cut", resume=True, pool=tiny_pool)
+
+    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run)[1], resumed.params)
+    lines, whole = metrics(tmp_path / "cut"), metrics(tiny_run)
+    assert [x["update"] for x in lines] == [1, 2, 3, 4, 5, 6]
+    assert {"steps", "sps", "return", "solve_rate", "policy_loss", "value_loss", "entropy"} <= set(lines[0])
+    evaluated = [(x["update"], x["eval_solve_rate"], x["eval_return"]) for x in lines if "eval_solve_rate" in x]
+    assert [e[0] for e in evaluated] == [4, 6]
+    assert evaluated == [(x["update"], x["eval_solve_rate"], x["eval_return"]) for x in whole if "eval_return" in x]
+    drop = ("sps",)
+    assert [{k: v for k, v in x.items() if k not in drop} for x in lines] == [
+        {k: v for k, v in x.items() if k not in drop} for x in whole
+    ]
+
+
+def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tiny_run):
+    config, params, update = load_policy(tiny_run)
+    assert update == 6 and config == tiny_config()
+    (result,) = evaluate(config, params, [EVAL_LEVEL], config.run.eval_attempts, seed=config.run.seed)
+    last = metrics(tiny_run)[-1]
+    assert last["eval_solve_rate"] == result.solve_rate and last["eval_return"] == result.mean_return
+
+
+def test_the_pool_carries_each_level_files_engine_constants(tmp_path):
+    """A level file's `params` reach the training levels (they used to be dropped by pretrain and finetune)."""
+    data = json.loads((LEVELS / "s/pad-to-pad.json").read_text())
+    data["params"] = {"dt": 0.02, "base_thruster_power": 6.0}
+    (tmp_path / "tuned.json").write_text(json.dumps(data))
+    config = tiny_config(f"levels.files=[levels/s/pad-to-pad.json, {tmp_path / 'tuned.json'}]")
+    pool = level_pool(config)
+    assert level_count(pool) == 2
+    np.testing.assert_allclose(pool.engine_params.dt, [1 / 60, 0.02], rtol=1e-6)
+    np.testing.assert_allclose(pool.engine_params.base_thruster_power, [10.0, 6.0])
+
+
+def test_missing_evaluation_levels_fail_before_training(tmp_path, tiny_pool):
+    config = tiny_config("run.eval_levels=[levels/nowhere]")
+    with pytest.raises(UserError, match="levels/nowhere: no such file"):
+        train(config, tmp_path / "run", pool=tiny_pool)
+    assert not (tmp_path / "run" / "metrics.jsonl").exists()
+
+
+def test_refuses_to_overwrite_a_run(tmp_path, tiny_pool):
+    (tmp_path / "run").mkdir()
+    (tmp_path / "run" / "notes.txt").write_text("mine")
+    with pytest.raises(UserError, match="not empty"):
+        train(tiny_config(), tmp_path / "run", pool=tiny_pool)
+
+
+@pytest.mark.slow
+def test_wandb_offline_logs_next_to_the_run(tmp_path, tiny_pool):
+    config = tiny_config()
+    config = dataclasses.replace(config, run=dataclasses.replace(config.run, wandb="offline"))
+    train(config, tmp_path / "run", pool=tiny_pool)
+    assert list((tmp_path / "run" / "wandb").glob("offline-run-*"))
+
+
+def test_init_from_loads_the_checkpoint_parameters(tmp_path, tiny_run, tiny_pool):
+    wider = tiny_config("model.width=32", f"run.init_from={tiny_run}")
+    with pytest.raises(UserError, match="does not match"):  # the checkpoint was read and compared
+        train(wider, tmp_path / "wider", pool=tiny_pool)
+
+    def distance(a, b):
+        return max(float(np.abs(x - y).max()) for x, y in zip(jax.tree.leaves(a), jax.tree.leaves(b), strict=True))
+
+    loaded = load_policy(tiny_run)[1]
+    tuned = train(tiny_config(f"run.init_from={tiny_run}"), tmp_path / "a", pool=tiny_pool)
+    fresh = train(tiny_config("run.seed=1"), tmp_path / "b", pool=tiny_pool)
+    # six Adam updates move each weight by about 6 lr = 2e-3; another seed's initialisation is far away
+    assert distance(tuned.params, loaded) < 0.01 < distance(fresh.params, loaded)
+
+
+def test_a_saved_config_rebuilds_the_run(tiny_run):
+    assert load_config(tiny_run / "config.yaml") == tiny_config()
+    assert json.loads((tiny_run / "versions.json").read_text())["format"] == "kinetix-versions/1"
+
+
+def test_finetune_config_keeps_the_agents_interface_unless_set():
+    """Fine-tuning keeps the pre-trained model, observation, action type and frame skip (the tiny run's 4 where
+    finetune.yaml says 2); a --set still wins; levels of two sizes are refused."""
+    pretrained = tiny_config()
+    config = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], pretrained)
+    assert config.model == pretrained.model and config.env.frame_skip == 4 and config.env.size == "s"
+    assert config.env.dense_reward_scale == 0.2  # the fine-tuning config's own reward setting
+    assert config.levels.files == config.run.eval_levels == (EVAL_LEVEL,)
+    scratch = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], None)
+    assert scratch.model.name == "transformer" and scratch.env.frame_skip == 2
+    mine = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], pretrained, ["env.frame_skip=3"])
+    assert mine.env.frame_skip == 3
+    with pytest.raises(UserError, match="sizes m, s"):
+        finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL, "levels/m/arm-sweep-ball.json"], pretrained)
