@@ -81,6 +81,7 @@ class Trace:
 
 def open_loop(actions: jax.Array) -> Policy:
     """The policy that takes `actions[t]` at step t, whatever it observes."""
+    actions = jnp.asarray(actions)
     return lambda key, obs, t: actions[t]
 
 
