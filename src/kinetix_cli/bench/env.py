@@ -12,9 +12,10 @@ import numpy as np
 
 from engine import SIZES, Static, random_scene
 from kinetix_cli.bench.timing import time_keyed
+from kinetix_cli.config import EnvSettings
 from kinetix_cli.constants import NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, OBSERVATION_TYPES
 from kinetix_cli.env.actions import sample_action
-from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Bindings, draw_level, make_level, stack_levels
 from kinetix_cli.errors import UserError
 
@@ -79,15 +80,14 @@ def bench_env(config: EnvBenchConfig, report: Callable[[EnvBenchResult], None] =
             raise UserError(f"--obs: unknown observation {kind!r}; choose from {', '.join(OBSERVATION_TYPES)}")
     static = SIZES[config.size]
     pool = random_levels(static, config.distinct_levels, config.seed)
-    params = EnvParams()
     results = []
     for kind in config.observations:
-        env = KinetixEnv(static, observation=kind)
+        env, params = make_env(EnvSettings(size=config.size, observation=kind))
         for envs in config.envs:
             keys = jax.random.split(jax.random.key(config.seed), envs)
             obs, states = jax.jit(jax.vmap(lambda key, env=env: env.reset_to_level(draw_level(pool, key))))(keys)
 
-            def env_step(carry, key, env=env):
+            def env_step(carry, key, env=env, params=params):
                 # The latest observation and the summed reward ride in the carry, as a rollout would keep
                 # them; a step whose outputs were dropped would let XLA skip computing them.
                 state, _, returns = carry

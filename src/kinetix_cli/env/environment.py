@@ -28,6 +28,7 @@ from flax import struct
 
 import engine
 from engine import Params, State, Static, pair_table
+from kinetix_cli.config import EnvSettings
 from kinetix_cli.constants import BLUE, GREEN, OBSERVATION_TYPES, RED
 from kinetix_cli.env.actions import ACTION_TYPES, ActionSpace, action_space, binding_values, engine_actions
 from kinetix_cli.env.level import Bindings, Level
@@ -37,15 +38,15 @@ from kinetix_cli.env.pixels import pixel_observation
 
 @struct.dataclass
 class EnvParams:
-    """Traced environment settings, shared by every level.
+    """Traced environment settings, shared by every level (defaults: the experiment config's, `EnvSettings`).
 
     Attributes:
         max_steps: episode cap in environment steps (256 = ~8.5 s at frame skip 2).
         dense_reward_scale: weight of the green-blue distance shaping; 0 turns it off.
     """
 
-    max_steps: int = 256
-    dense_reward_scale: float = 0.1
+    max_steps: int = EnvSettings.max_steps
+    dense_reward_scale: float = EnvSettings.dense_reward_scale
 
 
 @struct.dataclass
