@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import math
 import os
 import re
 import types
@@ -33,6 +34,7 @@ from engine import SIZES
 from kinetix_cli.constants import (
     ACTION_TYPES,
     EXPERIMENT_FORMAT,
+    INT32_MAX,
     MODEL_NAMES,
     MODEL_OBSERVATIONS,
     NUM_ATTENTION_CHANNELS,
@@ -85,9 +87,9 @@ class EnvSettings:
 
     def __post_init__(self):
         _check_types(self)
-        _require(self, "dense_reward_scale", self.dense_reward_scale >= 0, "must be >= 0")
-        _require(self, "frame_skip", self.frame_skip >= 1, "must be >= 1")
-        _require(self, "max_steps", self.max_steps >= 1, "must be >= 1")
+        _within(self, "dense_reward_scale", 0, 1000)
+        _within(self, "frame_skip", 1, 1000)
+        _within(self, "max_steps", 1, INT32_MAX)
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -114,7 +116,7 @@ class ModelSettings:
     def __post_init__(self):
         _check_types(self)
         for name in ("width", "actor_critic_layers", "transformer_layers", "heads"):
-            _require(self, name, getattr(self, name) >= 1, "must be >= 1")
+            _within(self, name, 1, 65536)
         if self.name == "transformer":
             _require(self, "heads", self.width % self.heads == 0, f"width {self.width} is not divisible by heads")
             channels = NUM_ATTENTION_CHANNELS
@@ -165,18 +167,19 @@ class PPOSettings:
     def __post_init__(self):
         _check_types(self)
         for name in ("num_envs", "num_steps", "update_epochs", "num_minibatches"):
-            _require(self, name, getattr(self, name) >= 1, "must be >= 1")
+            _within(self, name, 1, INT32_MAX)
         for name in ("gamma", "gae_lambda"):
-            _require(self, name, 0 <= getattr(self, name) <= 1, "must be in [0, 1]")
-        for name in ("clip_eps", "lr", "adam_eps", "max_grad_norm"):
-            _require(self, name, getattr(self, name) > 0, "must be > 0")
+            _within(self, name, 0, 1)
+        for name, high in (("lr", 1), ("adam_eps", 1), ("clip_eps", 10), ("max_grad_norm", 1e6)):
+            _within(self, name, 0, high, low_excluded=True)
         for name in ("ent_coef", "vf_coef"):
-            _require(self, name, getattr(self, name) >= 0, "must be >= 0")
+            _within(self, name, 0, 1000)
         batch = f"num_envs * num_steps = {self.num_envs} * {self.num_steps} = {self.batch_size}"
         _require(
             self, "num_minibatches", self.batch_size % self.num_minibatches == 0, f"{batch} is not divisible by it"
         )
         _require(self, "total_timesteps", self.total_timesteps >= self.batch_size, f"is less than one update ({batch})")
+        _within(self, "total_timesteps", 1, 10**15)
 
     @property
     def batch_size(self) -> int:
@@ -220,9 +223,10 @@ class RunSettings:
 
     def __post_init__(self):
         _check_types(self)
-        _require(self, "checkpoint_every", self.checkpoint_every >= 0, "must be >= 0 (0: only at the end)")
-        _require(self, "eval_every", self.eval_every >= 0, "must be >= 0 (0: never)")
-        _require(self, "eval_attempts", self.eval_attempts >= 1, "must be >= 1")
+        _within(self, "seed", 0, INT32_MAX)
+        _within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
+        _within(self, "eval_every", 0, INT32_MAX)  # 0: never
+        _within(self, "eval_attempts", 1, 10**6)
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -245,7 +249,7 @@ class LevelSettings:
 
     def __post_init__(self):
         _check_types(self)
-        _require(self, "pool_size", self.pool_size >= 1, "must be >= 1")
+        _within(self, "pool_size", 1, 10**8)
         if self.source == "levelset":
             _require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
         else:
@@ -401,6 +405,13 @@ def _require(obj, name: str, ok: bool, problem: str) -> None:
         raise ConfigError(f"{key}: {problem} (got {getattr(obj, name)!r})")
 
 
+def _within(obj, name: str, low: float, high: float, low_excluded: bool = False) -> None:
+    """Require `low <= value <= high` (`low < value` with `low_excluded`), the range in the message."""
+    value = getattr(obj, name)
+    ok = (low < value if low_excluded else low <= value) and value <= high
+    _require(obj, name, ok, f"must be {'>' if low_excluded else '>='} {low:g} and <= {high:g}")
+
+
 def _coerce(value: Any, hint: Any, key: str) -> Any:
     """`value` as the field type `hint`, or a ConfigError "key: expected ..., got ..."."""
     origin = typing.get_origin(hint)
@@ -438,7 +449,12 @@ def _matches(value: Any, hint: type) -> bool:
             isinstance(value, float) and value.is_integer()
         )
     if hint is float:
-        return isinstance(value, int | float) and not isinstance(value, bool)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            return False
+        try:
+            return math.isfinite(value)
+        except OverflowError:  # an integer beyond any float
+            return False
     return isinstance(value, hint)
 
 
@@ -451,7 +467,7 @@ def _describe(hint: Any) -> str:
         return "one of " + ", ".join(map(repr, typing.get_args(hint)))
     if origin is tuple:
         return f"a list of {_describe(typing.get_args(hint)[0]).removeprefix('a ')}s"
-    return {bool: "true or false", int: "an integer", float: "a number", str: "a string"}.get(hint, str(hint))
+    return {bool: "true or false", int: "an integer", float: "a finite number", str: "a string"}.get(hint, str(hint))
 
 
 def _type_error(key: str, hint: Any, value: Any) -> ConfigError:

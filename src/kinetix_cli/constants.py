@@ -40,6 +40,10 @@ NUM_ATTENTION_CHANNELS = 4
 """Attention-mask channels of the `symbolic-entity` observation (all shapes, joint-linked, directly joined, in
 contact); the transformer drives `heads / NUM_ATTENTION_CHANNELS` heads with each."""
 
+# --- numbers ------------------------------------------------------------------------------------------------
+INT32_MAX = 2**31 - 1
+"""Largest value of the integer settings JAX keeps as int32 (seeds, episode caps, counts)."""
+
 # --- file formats --------------------------------------------------------------------------------------------
 LEVEL_FORMAT = "kinetix-level/1"
 """Hand-made level files (JSON, `docs/level-format.md`)."""

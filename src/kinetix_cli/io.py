@@ -1,9 +1,20 @@
-"""Reading and writing the toolkit's files: JSON read with one-line errors, atomic (versioned) writes."""
+"""Reading and writing the toolkit's files: JSON read with one-line errors, atomic (versioned) writes.
+
+Output discipline, for every file the toolkit writes:
+- destinations are checked before the work starts (`check_output_file`, `check_output_dir`): not empty, not a
+  folder where a file is expected (or a file where a folder is), never a special file (a FIFO, a device, a socket:
+  refused, never replaced), inside a folder that exists or can be made;
+- files are written atomically into regular files only (`atomic_write`): a temporary file next to the target,
+  fsynced and moved into place; it is removed on every exit path, and the stale temporary files of a killed
+  earlier write of the same target are removed first;
+- every OS error is one `UserError` line naming the path.
+"""
 
 from __future__ import annotations
 
 import json
 import os
+import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -11,25 +22,98 @@ from typing import Any, BinaryIO
 
 from kinetix_cli.errors import UserError
 
+MAX_JSON_BYTES = 64 * 2**20
+"""Largest JSON file the toolkit reads (a level, a manifest, a report) [bytes]."""
+
+
+def _kind(path: Path) -> str | None:
+    """'file', 'folder', 'special file' (FIFO, device, socket), or None when nothing is there."""
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise UserError(f"{path}: cannot inspect: {exc.strerror}") from None
+    if stat.S_ISREG(mode):
+        return "file"
+    return "folder" if stat.S_ISDIR(mode) else "special file"
+
+
+def _creatable(path: Path) -> None:
+    """Raise unless the nearest existing ancestor of `path` is a writable folder."""
+    parent = path.parent
+    while _kind(parent) is None and parent != parent.parent:
+        parent = parent.parent
+    if _kind(parent) != "folder":
+        raise UserError(f"{path}: cannot be created: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UserError(f"{path}: cannot be created: {parent} is not writable")
+
+
+def check_output_file(path: str | os.PathLike | None, flag: str = "output") -> Path:
+    """`path` as a destination for a regular file, checked before any work: raises a `UserError` naming `flag` and
+    the path for an empty path, a folder, a special file, or a parent that cannot hold it."""
+    if path is None or str(path).strip() == "":
+        raise UserError(f"{flag}: needs a file name")
+    path = Path(path)
+    kind = _kind(path)
+    if kind == "folder":
+        raise UserError(f"{flag} {path}: is a folder; give a file name")
+    if kind == "special file":
+        raise UserError(f"{flag} {path}: is not a regular file (a FIFO, device or socket); kinetix does not replace it")
+    if kind is None:
+        _creatable(path)
+    elif not os.access(path, os.W_OK) or not os.access(path.parent, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} {path}: is not writable")
+    return path
+
+
+def check_output_dir(path: str | os.PathLike | None, flag: str = "output folder") -> Path:
+    """`path` as a folder to write into, checked before any work: raises a `UserError` for an empty path, a file
+    or special file in its place, or a parent that cannot hold it."""
+    if path is None or str(path).strip() == "":
+        raise UserError(f"{flag}: needs a folder name")
+    path = Path(path)
+    kind = _kind(path)
+    if kind in ("file", "special file"):
+        raise UserError(f"{flag} {path}: is a {kind}, not a folder")
+    if kind is None:
+        _creatable(path)
+    elif not os.access(path, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} {path}: is not writable")
+    return path
+
+
+def remove_stale_temporaries(path: Path) -> None:
+    """Remove what a killed `atomic_write` of `path` left: `.<name>.*.tmp` next to it."""
+    for stale in path.parent.glob(f".{path.name}.*.tmp"):
+        stale.unlink(missing_ok=True)
+
 
 def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> None:
     """Call `write(file)` on a temporary file next to `path`, then move it into place: readers see the old
     file or the whole new one, never a part. Parent folders are created; the file keeps the permissions it
-    had (a new file gets the usual ones, 0o666 less the umask, not mkstemp's private 0o600)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    mode = path.stat().st_mode & 0o777 if path.exists() else 0o666 & ~_umask()
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    had (a new file gets the usual ones, 0o666 less the umask, not mkstemp's private 0o600). A path that is not
+    a regular file (a folder, a FIFO, a device) is refused, never replaced; OS errors are one-line `UserError`s."""
+    path = check_output_file(path, "cannot write")
+    tmp = None
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temporaries(path)
+        mode = path.stat().st_mode & 0o777 if path.exists() else 0o666 & ~_umask()
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
         os.chmod(tmp, mode)
         with os.fdopen(fd, "wb") as f:
             write(f)
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        tmp = None
+    except OSError as exc:
+        raise UserError(f"{path}: cannot write: {exc.strerror or exc}") from None
+    finally:
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
 
 
 def _umask() -> int:
@@ -51,10 +135,15 @@ def atomic_write_json(path: str | os.PathLike, payload: dict, format_name: str) 
 def read_json(path: str | os.PathLike, error: type[UserError] = UserError) -> Any:
     """The JSON value of a file; a missing, unreadable or malformed file raises `error` naming the file."""
     path = Path(path)
+    kind = _kind(path)
+    if kind is None:
+        raise error(f"{path}: no such file")
+    if kind != "file":
+        raise error(f"{path}: is a {kind}, not a JSON file")
     try:
+        if path.stat().st_size > MAX_JSON_BYTES:
+            raise error(f"{path}: {path.stat().st_size:,} bytes; JSON files are read up to {MAX_JSON_BYTES:,}")
         text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise error(f"{path}: no such file") from None
     except UnicodeDecodeError as exc:
         raise error(f"{path}: not UTF-8 text (byte {exc.start})") from None
     except OSError as exc:
@@ -63,6 +152,10 @@ def read_json(path: str | os.PathLike, error: type[UserError] = UserError) -> An
         return json.loads(text)
     except json.JSONDecodeError as exc:
         raise error(f"{path}: not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+    except RecursionError:
+        raise error(f"{path}: not readable JSON: nested too deeply") from None
+    except ValueError as exc:  # e.g. an integer literal beyond Python's digit limit
+        raise error(f"{path}: not readable JSON: {exc}") from None
 
 
 def read_format(path: str | os.PathLike, format_name: str, error: type[UserError] = UserError) -> dict:

@@ -175,7 +175,7 @@ def test_later_overrides_win_and_can_supply_a_required_key(tmp_path):
         ("ppo.seed=3", "--set: unknown key 'ppo.seed'; did you mean 'run.seed'"),
         ("optim.lr=3e-4", "--set: unknown key 'optim.lr'; did you mean 'ppo.lr'"),
         ("ppo.lr", "--set ppo.lr: expected KEY=VALUE"),
-        ("ppo.lr=fast", "--set: ppo.lr: expected a number, got 'fast' (str)"),
+        ("ppo.lr=fast", "--set: ppo.lr: expected a finite number, got 'fast' (str)"),
         ("ppo.num_envs=12.5", "--set: ppo.num_envs: expected an integer, got 12.5 (float)"),
         ("ppo.anneal_lr=1", "--set: ppo.anneal_lr: expected true or false, got 1 (int)"),
         ("env.size=xl", "--set: env.size: expected one of 's', 'm', 'l', got 'xl' (str)"),
@@ -218,7 +218,7 @@ def test_unknown_keys_are_named_with_a_suggestion(tmp_path, text, expected):
 @pytest.mark.parametrize(
     ("text", "expected"),
     [
-        ("  lr: fast\n", "ppo.lr: expected a number, got 'fast' (str)"),
+        ("  lr: fast\n", "ppo.lr: expected a finite number, got 'fast' (str)"),
         ("  num_envs: '64'\n", "ppo.num_envs: expected an integer, got '64' (str)"),
         ("  num_envs: true\n", "ppo.num_envs: expected an integer, got True (bool)"),
         ("  normalise_advantages: yes\n", "ppo.normalise_advantages: expected true or false, got 'yes' (str)"),
@@ -262,7 +262,7 @@ def test_missing_file_bad_yaml_and_bad_top_level_name_the_file(tmp_path):
             "num_envs * num_steps = 10 * 3 = 30 is not divisible",
         ),
         ("  num_envs: 0\n", "ppo.num_envs: must be >= 1"),
-        ("  gamma: 1.5\n", "ppo.gamma: must be in [0, 1]"),
+        ("  gamma: 1.5\n", "ppo.gamma: must be >= 0 and <= 1 (got 1.5)"),
         ("  lr: 0\n", "ppo.lr: must be > 0"),
         ("env:\n  frame_skip: 0\n", "env.frame_skip: must be >= 1"),
         ("model:\n  width: 100\n", "model.heads: width 100 is not divisible by heads"),

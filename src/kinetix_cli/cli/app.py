@@ -13,7 +13,7 @@ from rich.table import Table
 
 from kinetix_cli.cli import generate, levels, train
 from kinetix_cli.cli.bench import bench_app
-from kinetix_cli.cli.console import console, errors, show_warning
+from kinetix_cli.cli.console import console, say, show_warning
 from kinetix_cli.errors import UserError
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help="kinetix: open-ended 2D physics RL in JAX.")
@@ -29,7 +29,7 @@ def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds."))
     """A car drives up a ramp: build a scene, simulate it, print what happened."""
     from kinetix_cli.tools.demo import run_demo
 
-    console.print("[bold]kinetix demo[/bold]: a two-wheeled car drives right, up a ramp (engine size m, CPU).")
+    say(("kinetix demo", "bold"), ": a two-wheeled car drives right, up a ramp (engine size m, CPU).")
     frames, compile_s, rate = run_demo(seconds)
     table = Table("t [s]", "x [m]", "y [m]", "angle [deg]", "speed [m/s]", title="chassis")
     for f in frames:
@@ -53,7 +53,25 @@ def main() -> None:
     os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(Path.home() / ".cache" / "kinetix" / "jax"))
     warnings.showwarning = show_warning
     try:
-        app()
+        code = app(standalone_mode=False)
     except UserError as exc:
-        errors.print(f"[red]error:[/red] {exc}", highlight=False)
+        say(("error:", "red"), f" {exc}", stderr=True)
         sys.exit(exc.exit_code)
+    except typer.Abort:  # Ctrl-C
+        say("aborted", stderr=True)
+        sys.exit(130)
+    except Exception as exc:
+        if not _is_usage_error(exc):
+            raise
+        if type(exc).__name__ == "NoArgsIsHelpError":  # a group without a command: its help, as --help prints it
+            console.print(exc.format_message())
+        else:  # a bad flag or argument: one line too (typer would draw a multi-line box)
+            where = f"{exc.ctx.command_path}: " if exc.ctx is not None else ""
+            say(("error:", "red"), f" {where}{exc.format_message()} (see --help)", stderr=True)
+        sys.exit(2)
+    sys.exit(code if isinstance(code, int) else 0)
+
+
+def _is_usage_error(exc: Exception) -> bool:
+    """A click usage error (typer vendors its own click, so the class is recognised by its interface)."""
+    return hasattr(exc, "format_message") and hasattr(exc, "ctx") and getattr(exc, "exit_code", None) == 2

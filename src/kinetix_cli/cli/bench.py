@@ -9,6 +9,8 @@ import typer
 from rich.table import Table
 
 from kinetix_cli.cli.console import console, int_list, name_list
+from kinetix_cli.constants import INT32_MAX
+from kinetix_cli.io import check_output_file
 
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
 
@@ -18,12 +20,14 @@ def bench_engine_command(
     size: str = typer.Option("s", help="Scene size: s, m or l."),
     envs: str = typer.Option("1,64,1024,4096", help="Comma-separated batch sizes."),
     against: str = typer.Option(None, help="Also run the reference engine on the same scenes: jax2d."),
-    steps: int = typer.Option(20, min=1, help="Engine steps per timed call."),
-    min_time: float = typer.Option(2.0, min=0.0, help="Seconds of timed calls per measurement."),
-    seed: int = typer.Option(0, help="Seed of the random scenes and actions."),
+    steps: int = typer.Option(20, min=1, max=10**5, help="Engine steps per timed call."),
+    min_time: float = typer.Option(2.0, min=0.0, max=3600.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the random scenes and actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """Engine steps per second on random scenes filled to a size's capacity."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
     from kinetix_cli.bench.engine import EngineBenchConfig, bench_engine
 
     config = EngineBenchConfig(
@@ -37,8 +41,9 @@ def bench_engine_command(
             ours[r.envs] = r.steps_per_s
         ratio = f"{ours[r.envs] / r.steps_per_s:.1f}x" if r.engine == "jax2d" else ""
         console.print(
-            f"[dim]{r.engine:8s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
-            f"{r.steps_per_s:12,.0f} steps/s {ratio}[/dim]"
+            f"{r.engine:8s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:12,.0f} steps/s {ratio}",
+            style="dim",
         )
         table.add_row(r.engine, r.size, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}", ratio)
 
@@ -52,12 +57,14 @@ def bench_env_command(
     size: str = typer.Option("s", help="Level size: s, m or l."),
     envs: str = typer.Option("64,1024", help="Comma-separated batch sizes."),
     obs: str = typer.Option("symbolic-flat,symbolic-entity,pixels", help="Observation types to measure."),
-    steps: int = typer.Option(32, min=1, help="Environment steps per timed call."),
-    min_time: float = typer.Option(2.0, min=0.0, help="Seconds of timed calls per measurement."),
-    seed: int = typer.Option(0, help="Seed of the random levels and actions."),
+    steps: int = typer.Option(32, min=1, max=10**5, help="Environment steps per timed call."),
+    min_time: float = typer.Option(2.0, min=0.0, max=3600.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the random levels and actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """Environment steps per second (frame skip, reward, observation and auto-reset included)."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
     from kinetix_cli.bench.env import EnvBenchConfig, bench_env
 
     config = EnvBenchConfig(
@@ -72,8 +79,9 @@ def bench_env_command(
 
     def report(r):
         console.print(
-            f"[dim]{r.observation:16s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
-            f"{r.steps_per_s:12,.0f} env steps/s[/dim]"
+            f"{r.observation:16s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:12,.0f} env steps/s",
+            style="dim",
         )
         table.add_row(r.observation, r.size, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}")
 
@@ -87,16 +95,18 @@ def bench_train_command(
     size: str = typer.Option("s", help="Level size: s, m or l."),
     models: str = typer.Option("flat-mlp,pi-mlp,transformer", help="Comma-separated models to measure."),
     envs: str = typer.Option("64", help="Comma-separated numbers of parallel environments."),
-    steps: int = typer.Option(32, min=1, help="Rollout steps per environment per update."),
-    epochs: int = typer.Option(4, min=1, help="PPO epochs per update."),
-    minibatches: int = typer.Option(4, min=1, help="Minibatches per epoch."),
-    width: int = typer.Option(128, min=1, help="Hidden width of the models."),
-    layers: int = typer.Option(5, min=1, help="Actor and critic hidden layers."),
-    min_time: float = typer.Option(5.0, min=0.0, help="Seconds of timed updates per measurement."),
-    seed: int = typer.Option(0, help="Seed of the levels, parameters and actions."),
+    steps: int = typer.Option(32, min=1, max=10**5, help="Rollout steps per environment per update."),
+    epochs: int = typer.Option(4, min=1, max=4096, help="PPO epochs per update."),
+    minibatches: int = typer.Option(4, min=1, max=4096, help="Minibatches per epoch."),
+    width: int = typer.Option(128, min=1, max=4096, help="Hidden width of the models."),
+    layers: int = typer.Option(5, min=1, max=64, help="Actor and critic hidden layers."),
+    min_time: float = typer.Option(5.0, min=0.0, max=3600.0, help="Seconds of timed updates per measurement."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the levels, parameters and actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """PPO training env steps per second and compile time per model (whole jitted updates)."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
     from kinetix_cli.bench.train import TrainBenchConfig, bench_train
 
     config = TrainBenchConfig(
@@ -115,8 +125,9 @@ def bench_train_command(
 
     def report(r):
         console.print(
-            f"[dim]{r.model:12s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
-            f"{r.steps_per_s:10,.0f} env steps/s[/dim]"
+            f"{r.model:12s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.steps_per_s:10,.0f} env steps/s",
+            style="dim",
         )
         row = (r.model, r.observation, r.size, str(r.envs), f"{r.parameters:,}", f"{r.compile_s:.1f}")
         table.add_row(*row, f"{r.steps_per_s:,.0f}")
@@ -129,12 +140,14 @@ def bench_train_command(
 @bench_app.command("generate")
 def bench_generate_command(
     size: str = typer.Option("s", help="Level size: s, m or l."),
-    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
-    min_time: float = typer.Option(10.0, min=0.0, help="Seconds of timed chunks after compilation."),
-    seed: int = typer.Option(0, help="Generation seed."),
+    chunk: int = typer.Option(1024, min=1, max=2**20, help="Levels sampled per device batch."),
+    min_time: float = typer.Option(10.0, min=0.0, max=3600.0, help="Seconds of timed chunks after compilation."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Generation seed."),
     json_path: Path = typer.Option(None, "--json", help="Also write the result to this JSON file."),
 ) -> None:
     """Kept levels per second with the default filters, and compile times."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
     from kinetix_cli.bench.generate import GenerateBenchConfig, bench_generate
     from kinetix_cli.generator.filters import make_config
 

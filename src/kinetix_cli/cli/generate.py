@@ -7,6 +7,8 @@ from pathlib import Path
 import typer
 
 from kinetix_cli.cli.console import console
+from kinetix_cli.constants import INT32_MAX
+from kinetix_cli.io import check_output_dir
 
 commands = typer.Typer()
 
@@ -14,14 +16,14 @@ commands = typer.Typer()
 @commands.command()
 def generate(
     size: str = typer.Option("s", help="Level size: s, m or l."),
-    count: int = typer.Option(..., min=1, help="Distinct levels to keep."),
-    seed: int = typer.Option(0, help="Seed; the same command gives byte-identical files."),
+    count: int = typer.Option(..., min=1, max=10**8, help="Distinct levels to keep."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed; the same command gives byte-identical files."),
     out: Path = typer.Option(..., "--out", help="Level-set folder (created; an unfinished one is resumed)."),
     filters: str = typer.Option("noop,random", "--filter", help="Drop levels solved by: noop, random, both or none."),
-    random_attempts: int = typer.Option(3, min=1, help="Random-policy episodes per level (random filter)."),
+    random_attempts: int = typer.Option(3, min=1, max=100, help="Random-policy episodes per level (random filter)."),
     random_max_rate: float = typer.Option(0.5, help="Drop levels random play solves more often than this."),
-    chunk: int = typer.Option(1024, min=1, help="Levels sampled per device batch."),
-    shard_size: int = typer.Option(4096, min=1, help="Levels per shard file."),
+    chunk: int = typer.Option(1024, min=1, max=2**20, help="Levels sampled per device batch."),
+    shard_size: int = typer.Option(4096, min=1, max=2**20, help="Levels per shard file."),
 ) -> None:
     """Sample levels, drop trivial ones, and write a level set (manifest + shards), resumably."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -29,6 +31,7 @@ def generate(
     from kinetix_cli.generator.filters import FilterConfig, generate_chunk, make_config, parse_filters
     from kinetix_cli.levels.levelset import generate_levelset
 
+    check_output_dir(out, "--out")
     noop, random = parse_filters(filters)
     filter_config = FilterConfig(noop, random_attempts if random else 0, random_max_rate)
     config = make_config(size, chunk, filter_config)

@@ -8,8 +8,10 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from kinetix_cli.cli.console import console
+from kinetix_cli.cli.console import console, say
+from kinetix_cli.constants import INT32_MAX
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import check_output_dir, check_output_file
 
 commands = typer.Typer()
 levels_app = typer.Typer(no_args_is_help=True, help="Level files and generated level sets.")
@@ -26,18 +28,19 @@ def import_command(
     """Convert reference Kinetix levels into kinetix-level files, listing what could not be carried over."""
     from kinetix_cli.constants import IMPORT_REPORT_FORMAT
     from kinetix_cli.io import atomic_write_json
-    from kinetix_cli.levels.files import import_reference_file, level_paths
+    from kinetix_cli.levels.files import import_reference_file, import_targets
 
+    check_output_dir(out, "-o")
+    if report is not None:
+        check_output_file(report, "--report")
     entries = []
-    for path in paths:
-        for source in level_paths([path]):
-            target = out / (source.relative_to(path) if path.is_dir() else source.name)
-            notes = import_reference_file(source, target)
-            status = f"[yellow]{len(notes)} note(s)[/yellow]" if notes else "[green]ok[/green]"
-            console.print(f"{status} {source} -> {target}", highlight=False)
-            for note in notes:
-                console.print(f"    {note}", highlight=False)
-            entries.append({"source": str(source), "output": str(target), "notes": [vars(n) for n in notes]})
+    for source, target in import_targets(paths, out):
+        notes = import_reference_file(source, target)
+        status = (f"{len(notes)} note(s)", "yellow") if notes else ("ok", "green")
+        say(status, f" {source} -> {target}")
+        for note in notes:
+            console.print(f"    {note}")
+        entries.append({"source": str(source), "output": str(target), "notes": [vars(n) for n in notes]})
     noted = sum(bool(e["notes"]) for e in entries)
     console.print(f"imported {len(entries)} level(s) into {out}; {noted} with something not carried over")
     if report is not None:
@@ -66,33 +69,30 @@ def validate(
         if spec.solution is not None:
             decode_solution(spec.solution, str(path), SOLUTION_SETTINGS.max_steps)
         scene = spec.scene
-        console.print(
-            f"[green]ok[/green] {path}  size {spec.default_size()}  {len(scene.polygons)} polygons, "
-            f"{len(scene.circles)} circles, {len(scene.joints)} joints, "
-            f"{len(scene.thrusters)} thrusters{', solution' if spec.solution else ''}",
-            highlight=False,
+        say(
+            ("ok", "green"),
+            f" {path}  size {spec.default_size()}  {len(scene.polygons)} polygons, {len(scene.circles)} circles, "
+            f"{len(scene.joints)} joints, {len(scene.thrusters)} thrusters{', solution' if spec.solution else ''}",
         )
         if play:
             outcome = check_level(spec, attempts=20)
             solution = outcome.get("solution")
-            lines = []
             if solution is None:
-                lines.append("[yellow]no solution[/yellow]")
+                parts = ["    ", ("no solution", "yellow")]
             elif bool(solution.solved[0]):
-                lines.append(f"solution solves in {int(solution.length[0])} steps")
+                parts = [f"    solution solves in {int(solution.length[0])} steps"]
             else:
-                lines.append("[red]solution does not solve[/red]")
+                parts = ["    ", ("solution does not solve", "red")]
                 problems += 1
             if bool(outcome["noop"].solved[0]):
-                lines.append("[red]no-op solves[/red]")
+                parts += ["; ", ("no-op solves", "red")]
                 problems += 1
             else:
-                lines.append("no-op does not solve")
-            lines.append(f"random solves {int(outcome['random'].solved.sum())}/20")
-            console.print("    " + "; ".join(lines))
+                parts += ["; no-op does not solve"]
+            say(*parts, f"; random solves {int(outcome['random'].solved.sum())}/20")
     console.print(f"{len(files)} level file(s) valid")
     if problems:
-        console.print(f"[red]{problems} problem(s) when playing the levels[/red]")
+        say((f"{problems} problem(s) when playing the levels", "red"))
         raise typer.Exit(1)
 
 
@@ -100,12 +100,14 @@ def validate(
 def solve(
     level: Path = typer.Argument(..., help="Level file."),
     write: bool = typer.Option(False, "--write", help="Store the solution in the level file."),
-    population: int = typer.Option(256, min=8, help="Action sequences per iteration."),
-    iterations: int = typer.Option(20, min=1, help="Most CEM iterations."),
+    population: int = typer.Option(256, min=8, max=65536, help="Action sequences per iteration."),
+    iterations: int = typer.Option(20, min=1, max=10000, help="Most CEM iterations."),
     segments: int = typer.Option(16, min=1, max=256, help="Pieces of constant action per episode."),
-    seed: int = typer.Option(0, help="Random seed."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Random seed."),
 ) -> None:
     """Find an action sequence that solves a level (cross-entropy method on the batched environment)."""
+    if write:
+        check_output_file(level, "--write")
     import json
 
     from kinetix_cli.io import read_json
@@ -121,12 +123,12 @@ def solve(
 
     result = run_solve(spec, config, report)
     if result.solution is None:
-        console.print(f"[red]no robust solution[/red] after {result.episodes} episodes ({result.seconds:.0f} s)")
+        say(("no robust solution", "red"), f" after {result.episodes} episodes ({result.seconds:.0f} s)")
         raise typer.Exit(1)
-    console.print(
-        f"[green]solved[/green] in {result.length} steps after {result.episodes} episodes ({result.seconds:.0f} s): "
+    say(
+        ("solved", "green"),
+        f" in {result.length} steps after {result.episodes} episodes ({result.seconds:.0f} s): "
         f"{json.dumps(result.solution)}",
-        highlight=False,
     )
     if write:
         save_level(level, read_json(level) | {"solution": result.solution})
@@ -140,6 +142,7 @@ def render(
     scale: float = typer.Option(120, min=10, max=1000, help="Pixels per metre."),
 ) -> None:
     """Draw a level as a PNG: roles, joints and motors by binding, thrusters."""
+    check_output_file(out, "-o")
     from kinetix_cli.levels.files import load_level
     from kinetix_cli.viz.render import render_level, save_png
 
@@ -155,12 +158,16 @@ def rollout(
         "solution", help="noop, random, solution (the level's stored actions) or a training run directory."
     ),
     out: Path = typer.Option(None, "-o", "--out", help="GIF file to write (omit to only print the outcome)."),
-    seed: int = typer.Option(0, help="Seed of the random policy, or of a trained policy's sampled actions."),
+    seed: int = typer.Option(
+        0, min=0, max=INT32_MAX, help="Seed of the random policy, or of a trained policy's sampled actions."
+    ),
     scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF."),
 ) -> None:
     """Play one episode of a level and print its return and whether it was solved; optionally as a GIF.
 
     A trained policy plays in its run's environment (frame skip, episode cap, shaping, observation, action)."""
+    if out is not None:
+        check_output_file(out, "-o")
     import jax
 
     from kinetix_cli.env.episode import open_loop
@@ -185,10 +192,12 @@ def rollout(
     else:
         raise UserError(f"--policy: {policy!r} is not one of {', '.join(OPEN_LOOP_POLICIES)} nor a run directory")
     episode = record_episode(env, params, spec.build(env.static), act, jax.random.key(seed), horizon)
-    ending = "[green]solved[/green]" if episode.solved else "[red]failed[/red]" if episode.failed else "timed out"
-    console.print(
-        f"{spec.name}: policy {policy}: {ending} after {episode.length} steps "
-        f"({episode.length * episode.step_seconds:.2f} s), return {episode.total_return:+.3f}"
+    ending = ("solved", "green") if episode.solved else ("failed", "red") if episode.failed else "timed out"
+    say(
+        f"{spec.name}: policy {policy}: ",
+        ending,
+        f" after {episode.length} steps ({episode.length * episode.step_seconds:.2f} s), "
+        f"return {episode.total_return:+.3f}",
     )
     if out is not None:
         save_gif(episode_frames(spec.name, episode, scale=scale), out, fps=1.0 / episode.step_seconds)
@@ -263,7 +272,7 @@ def levels_info(
     if json_out:
         print(json.dumps(info, indent=2))
         return
-    console.print(f"[bold]{path}[/bold]: {info['count']:,} size-{info['size']} levels, seed {info['seed']}")
+    say((str(path), "bold"), f": {info['count']:,} size-{info['size']} levels, seed {info['seed']}")
     console.print("generation: " + ", ".join(f"{k} {v:,}" for k, v in info["generation"].items()))
     stats = info["statistics"]
     table = Table("per level", "mean", "min", "max")
@@ -281,10 +290,11 @@ def levels_info(
 def levels_show(
     path: Path = typer.Argument(..., help="Level-set folder."),
     index: int = typer.Option(0, help="The level to draw (with --grid: the first one)."),
-    grid: int = typer.Option(0, min=0, help="Draw this many levels from --index on as a contact sheet."),
+    grid: int = typer.Option(0, min=0, max=1024, help="Draw this many levels from --index on as a contact sheet."),
     out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
 ) -> None:
     """Render one level of a set, or a contact sheet of several."""
+    check_output_file(out, "-o")
     import math
 
     from kinetix_cli.levels.levelset import level_at, load_levelset
@@ -310,6 +320,7 @@ def levels_sheet(
     scale: float = typer.Option(40, min=5, max=500, help="Pixels per metre of each tile."),
 ) -> None:
     """Draw level files side by side in one PNG, each under its file name."""
+    check_output_file(out, "-o")
     import math
 
     from kinetix_cli.levels.files import level_paths, load_level
@@ -328,6 +339,7 @@ def levels_export(
     out: Path = typer.Option(..., "-o", "--out", help="Level file (JSON) to write."),
 ) -> None:
     """Write one level of a set as a level file (kinetix-level/1) that validate, render and rollout read."""
+    check_output_file(out, "-o")
     from engine import SIZES
     from kinetix_cli.levels.export import export_level
     from kinetix_cli.levels.files import save_level

@@ -6,8 +6,11 @@ from pathlib import Path
 
 import typer
 from rich.table import Table
+from rich.text import Text
 
 from kinetix_cli.cli.console import console
+from kinetix_cli.constants import INT32_MAX
+from kinetix_cli.io import check_output_file
 
 commands = typer.Typer()
 
@@ -81,12 +84,14 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
 def eval_command(
     policy: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
     levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
-    attempts: int = typer.Option(20, min=1, help="Stochastic episodes per level."),
-    seed: int = typer.Option(0, help="Seed of the sampled actions."),
+    attempts: int = typer.Option(20, min=1, max=10**5, help="Stochastic episodes per level."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """Solve rate, return and episode length of a trained policy per level and per suite, in the run's own
     environment settings."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
     import dataclasses
 
     from kinetix_cli.constants import EVAL_FORMAT
@@ -102,7 +107,7 @@ def eval_command(
         table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")
     summary = suite_summary(results)
     for name, row in summary.items():
-        table.add_row(f"[bold]{name}[/bold] ({row['levels']} levels)", f"{row['solve_rate']:.0%}", "", "")
+        table.add_row(Text(f"{name} ({row['levels']} levels)", style="bold"), f"{row['solve_rate']:.0%}", "", "")
     console.print(table)
     if json_path is not None:
         payload = {

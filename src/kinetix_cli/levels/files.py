@@ -58,6 +58,24 @@ def save_level(path: str | Path, data: dict) -> None:
     atomic_write_text(path, format_level_json(data))
 
 
+def import_targets(paths: list[Path], out: Path) -> list[tuple[Path, Path]]:
+    """(source, target) pairs of `kinetix import PATHS -o OUT`: a file lands in OUT under its name, a folder's files
+    under their path inside the folder. Two sources landing on one target (the paper's m/ and l/ folders both hold
+    h1_car_left.json) are a `UserError` before anything is written: nothing is overwritten silently."""
+    pairs, seen = [], {}
+    for path in map(Path, paths):
+        for source in level_paths([path]):
+            target = out / (source.relative_to(path) if path.is_dir() else source.name)
+            if target in seen:
+                raise UserError(
+                    f"{seen[target]} and {source} would both be written to {target}; import them into separate "
+                    "folders, or import their common parent folder"
+                )
+            seen[target] = source
+            pairs.append((source, target))
+    return pairs
+
+
 def import_reference_file(source: Path, out: Path) -> list[Note]:
     """Convert the reference-format level file `source` and write it to `out` (atomically); return the notes.
 

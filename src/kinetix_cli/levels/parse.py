@@ -20,7 +20,7 @@ from engine import SIZES, BodyRef, Params, Scene, SceneError, Static
 from kinetix_cli.constants import LEVEL_FORMAT, NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROLE_NAMES
 from kinetix_cli.env.level import Bindings, Level, make_level
 from kinetix_cli.errors import LevelError
-from kinetix_cli.levels.format import ARENA_KEYS, DEFAULT_GRAVITY
+from kinetix_cli.levels.format import ARENA_KEYS, DEFAULT_GRAVITY, LIMITS, PARAM_LIMITS
 
 _TOP_KEYS = {"format", "name", "description", "size", "gravity", "arena", "bodies", "joints", "thrusters", "params"}
 _TOP_KEYS |= {"solution"}  # checked by `kinetix_cli.levels.solution.decode_solution` when replayed
@@ -31,6 +31,10 @@ _JOINT_KEYS = {"name", "type", "a", "b", "anchor", "motor", "limits_deg"}
 _MOTOR_KEYS = {"binding", "speed", "power"}
 _THRUSTER_KEYS = {"name", "body", "anchor", "direction_deg", "power", "binding"}
 _PARAM_KEYS = {f.name for f in dataclasses.fields(Params)}
+MAX_NAME = 200
+"""Longest level, body, joint or thruster name [characters]."""
+MAX_DESCRIPTION = 2000
+"""Longest level description [characters]: one line for people."""
 AUTO_MOTOR = -1
 """`LevelSpec.motor_bindings` entry of an auto motor (always +1)."""
 
@@ -78,10 +82,15 @@ class LevelSpec:
         """The level's own size name, or the smallest Kinetix size it fits."""
         if self.size is not None:
             return self.size
-        for name, static in SIZES.items():
-            if self.fits(static):
+        *smaller, largest = SIZES
+        for name in smaller:
+            if self.fits(SIZES[name]):
                 return name
-        raise LevelError(f"{self.source}: the level does not fit size l")
+        try:
+            self.scene.check_fits(SIZES[largest])
+        except SceneError as exc:
+            raise LevelError(f"{self.source}: too big for size {largest}, the largest: {exc}") from None
+        return largest
 
     def default_static(self) -> Static:
         """The capacities of `default_size()`."""
@@ -132,35 +141,41 @@ class _Parser:
                 raise self.fail(entity, key, "missing")
         return obj
 
-    def number(self, entity: str, field: str, value: Any, low=-math.inf, high=math.inf, strict_low=False) -> float:
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-            raise self.fail(entity, field, f"must be a finite number, got {json.dumps(value)}")
+    def number(self, entity: str, field: str, value: Any, limits: tuple[float, float, bool] | None = None) -> float:
+        """A finite number within `limits` (default: the field's in `format.LIMITS`)."""
+        low, high, strict_low = limits or LIMITS[field]
+        try:
+            ok = not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
+        except OverflowError:  # an integer literal beyond any float
+            ok = False
+        if not ok:
+            raise self.fail(entity, field, f"must be a finite number, got {_short(value)}")
         if value < low or value > high or (strict_low and value == low):
-            bound = f"in [{low:g}, {high:g}]"
-            if high == math.inf:
-                bound = f"> {low:g}" if strict_low else f">= {low:g}"
-            raise self.fail(entity, field, f"must be {bound}, got {value}")
+            bound = f"> {low:g} and <= {high:g}" if strict_low else f"in [{low:g}, {high:g}]"
+            raise self.fail(entity, field, f"must be {bound}, got {_short(value)}")
         return float(value)
 
     def vector(self, entity: str, field: str, value: Any) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:
-            raise self.fail(entity, field, f"must be [x, y], got {json.dumps(value)}")
+            raise self.fail(entity, field, f"must be [x, y], got {_short(value)}")
         return (self.number(entity, field, value[0]), self.number(entity, field, value[1]))
 
     def boolean(self, entity: str, field: str, value: Any) -> bool:
         if not isinstance(value, bool):
-            raise self.fail(entity, field, f"must be true or false, got {json.dumps(value)}")
+            raise self.fail(entity, field, f"must be true or false, got {_short(value)}")
         return value
 
     def string(self, entity: str, field: str, value: Any) -> str:
         if not isinstance(value, str) or not value:
-            raise self.fail(entity, field, f"must be a non-empty string, got {json.dumps(value)}")
+            raise self.fail(entity, field, f"must be a non-empty string, got {_short(value)}")
+        if len(value) > MAX_NAME:
+            raise self.fail(entity, field, f"at most {MAX_NAME} characters, got {len(value):,}")
         return value
 
     def choice(self, entity: str, field: str, value: Any, choices: tuple) -> Any:
         if value not in choices or isinstance(value, bool):
             options = ", ".join(json.dumps(c) for c in choices)
-            raise self.fail(entity, field, f"must be one of {options}, got {json.dumps(value)}")
+            raise self.fail(entity, field, f"must be one of {options}, got {_short(value)}")
         return value
 
     def items(self, field: str, value: Any) -> list:
@@ -170,13 +185,17 @@ class _Parser:
 
     # --- sections -------------------------------------------------------------------------------
     def level(self, data: Any) -> LevelSpec:
+        if isinstance(data, dict) and "format" in data and data["format"] != LEVEL_FORMAT:  # the version first
+            raise self.fail(
+                "level", "format", f"this kinetix reads {json.dumps(LEVEL_FORMAT)} only, got {_short(data['format'])}"
+            )
         data = self.keys("level", data, _TOP_KEYS, required=("format", "bodies"))
-        if data["format"] != LEVEL_FORMAT:
-            raise self.fail("level", "format", f"must be {json.dumps(LEVEL_FORMAT)}, got {json.dumps(data['format'])}")
-        name = self.string("level", "name", data.get("name", Path(self.source).stem))
+        name = self.string("level", "name", data.get("name", Path(self.source).stem[:MAX_NAME]))
         description = data.get("description", "")
         if not isinstance(description, str):
             raise self.fail("level", "description", "must be a string")
+        if len(description) > MAX_DESCRIPTION:
+            raise self.fail("level", "description", f"at most {MAX_DESCRIPTION} characters, got {len(description):,}")
         size = data.get("size")
         if size is not None:
             self.choice("level", "size", size, tuple(SIZES))
@@ -216,8 +235,8 @@ class _Parser:
             spec = self.keys(entity, arena.get(key, {}), _ARENA_BODY_KEYS)
             body = scene.arena[i]
             body.role = ROLE_NAMES.index(self.choice(entity, "role", spec.get("role", "neutral"), ROLE_NAMES))
-            body.friction = self.number(entity, "friction", spec.get("friction", 1.0), 0.0)
-            body.restitution = self.number(entity, "restitution", spec.get("restitution", 0.0), 0.0, 1.0)
+            body.friction = self.number(entity, "friction", spec.get("friction", 1.0))
+            body.restitution = self.number(entity, "restitution", spec.get("restitution", 0.0))
             body.active = self.boolean(entity, "enabled", spec.get("enabled", True))
 
     @staticmethod
@@ -237,9 +256,9 @@ class _Parser:
         material = {
             "role": ROLE_NAMES.index(self.choice(entity, "role", body.get("role", "neutral"), ROLE_NAMES)),
             "fixed": self.boolean(entity, "fixed", body.get("fixed", False)),
-            "density": self.number(entity, "density", body.get("density", 1.0), 0.0, strict_low=True),
-            "friction": self.number(entity, "friction", body.get("friction", 1.0), 0.0),
-            "restitution": self.number(entity, "restitution", body.get("restitution", 0.0), 0.0, 1.0),
+            "density": self.number(entity, "density", body.get("density", 1.0)),
+            "friction": self.number(entity, "friction", body.get("friction", 1.0)),
+            "restitution": self.number(entity, "restitution", body.get("restitution", 0.0)),
             "collision_mode": self.choice(entity, "collision_mode", body.get("collision_mode", 1), (0, 1, 2)),
             "velocity": self.vector(entity, "velocity", body.get("velocity", [0.0, 0.0])),
             "angular_velocity": math.radians(
@@ -256,7 +275,7 @@ class _Parser:
         if shape == "box":
             w, h = self.vector(entity, "size", body["size"])
             if w <= 0 or h <= 0:
-                raise self.fail(entity, "size", f"width and height must be > 0, got {body['size']}")
+                raise self.fail(entity, "size", f"width and height must be > 0, got {_short(body['size'])}")
             ref = scene.add_box(position, (w, h), angle, name=name, **material)
         elif shape == "polygon":
             vertices = body["vertices"]
@@ -265,14 +284,14 @@ class _Parser:
             points = [self.vector(entity, "vertices", v) for v in vertices]
             ref = scene.add_polygon(position, points, angle, name=name, **material)
         else:
-            radius = self.number(entity, "radius", body["radius"], 0.0, strict_low=True)
+            radius = self.number(entity, "radius", body["radius"])
             ref = scene.add_circle(position, radius, name=name, angle=angle, **material)
         refs[name] = ref
 
     def body_ref(self, refs: dict, entity: str, field: str, value: Any) -> BodyRef:
         name = self.string(entity, field, value)
         if name not in refs:
-            raise self.fail(entity, field, f"no body named {json.dumps(name)}")
+            raise self.fail(entity, field, f"no body named {_short(name)}")
         return refs[name]
 
     def joint(self, scene: Scene, refs: dict, entity: str, joint: Any) -> int | None:
@@ -303,8 +322,8 @@ class _Parser:
             bindings = (*range(NUM_MOTOR_BINDINGS), "auto")
             binding = self.choice(f"{entity}.motor", "binding", motor["binding"], bindings)
             binding = AUTO_MOTOR if binding == "auto" else binding
-            speed = self.number(f"{entity}.motor", "speed", motor.get("speed", 1.0), 0.0)
-            power = self.number(f"{entity}.motor", "power", motor.get("power", 1.0), 0.0)
+            speed = self.number(f"{entity}.motor", "speed", motor.get("speed", 1.0))
+            power = self.number(f"{entity}.motor", "power", motor.get("power", 1.0))
         scene.add_revolute_joint(a, b, anchor, motor_speed=speed, motor_power=power, limits=limits, name=name)
         return binding
 
@@ -318,11 +337,20 @@ class _Parser:
         body = scene.body(ref)
         anchor = self.vector(entity, "anchor", thruster.get("anchor", list(body.position)))
         angle = math.radians(self.number(entity, "direction_deg", thruster["direction_deg"]))
-        power = self.number(entity, "power", thruster.get("power", 1.0), 0.0)
+        power = self.number(entity, "power", thruster.get("power", 1.0))
         binding = self.choice(entity, "binding", thruster.get("binding", 0), tuple(range(NUM_THRUSTER_BINDINGS)))
         scene.add_thruster(ref, anchor, angle, power, name=name)
         return binding
 
     def params(self, params: Any) -> dict[str, float]:
         params = self.keys("params", params, _PARAM_KEYS)
-        return {key: self.number("params", key, value) for key, value in params.items()}
+        return {key: self.number("params", key, value, PARAM_LIMITS[key]) for key, value in params.items()}
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    """A value as JSON for a message, cut to `limit` characters (a hostile file may hold megabytes)."""
+    try:
+        text = json.dumps(value)
+    except (TypeError, ValueError):  # e.g. an integer too long to print
+        text = f"a {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 3] + "..."

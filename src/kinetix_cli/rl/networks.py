@@ -28,11 +28,15 @@ from collections.abc import Callable
 import flax.linen as nn
 import jax
 import jax.numpy as jnp
+import numpy as np
 
-from kinetix_cli.config import EnvSettings, ModelSettings
+from engine import Scene
+from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings
 from kinetix_cli.constants import MODEL_OBSERVATIONS, NUM_ATTENTION_CHANNELS
 from kinetix_cli.env.actions import action_space
 from kinetix_cli.env.episode import Policy
+from kinetix_cli.env.factory import make_env
+from kinetix_cli.env.level import empty_bindings, make_level
 from kinetix_cli.env.observations import EntityObservation
 from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
 
@@ -337,6 +341,18 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     if model.name == "pi-mlp":
         return PermutationInvariantMLP(width=model.width, **heads)
     return EntityTransformer(width=model.width, num_layers=model.transformer_layers, num_heads=model.heads, **heads)
+
+
+def params_fit(config: ExperimentConfig, params) -> bool:
+    """Whether `params` have the tree and the leaf shapes that the network of `config` initialises."""
+    env, _ = make_env(config.env)
+    static = env.static
+    level = make_level(Scene().build_numpy(static), empty_bindings(static.num_joints, static.num_thrusters))
+    obs = jax.eval_shape(lambda: env.reset_to_level(level)[0])
+    expected = jax.eval_shape(make_network(config.model, config.env).init, jax.random.key(0), obs)
+    if jax.tree.structure(expected) != jax.tree.structure(params):
+        return False
+    return all(np.shape(a) == b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(expected), strict=True))
 
 
 def sampling_policy(network: nn.Module, params) -> Policy:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -30,10 +31,10 @@ from kinetix_cli.constants import VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write_json
+from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir
 from kinetix_cli.levels.files import level_paths, load_level
 from kinetix_cli.provenance import environment_info
-from kinetix_cli.rl.checkpoints import checkpoint_manager, load_policy, restore_runner, save_runner
+from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, load_policy, restore_runner, save_runner
 from kinetix_cli.rl.evaluate import Evaluator
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import level_pool
@@ -65,17 +66,15 @@ def train(
         init_params: initial network parameters (fine-tuning); default: those of the checkpoint named by
             `run.init_from`, else freshly initialised.
     """
-    run_dir = Path(run_dir)
+    run_dir = check_output_dir(run_dir, "--run-dir")
     if not resume and run_dir.exists() and any(run_dir.iterdir()):
         raise UserError(f"--run-dir {run_dir}: not empty; pass --resume to continue it or choose a new folder")
-    evaluator = _evaluator(config)  # bad evaluation levels fail here, before anything is written
-    run_dir.mkdir(parents=True, exist_ok=True)
     saved = run_dir / CONFIG_FILENAME
     if resume and saved.exists() and load_config(saved) != config:
         raise UserError(f"--resume: {saved} differs from the config given; resume with the run's own config")
-    save_config(config, saved)
-    atomic_write_json(run_dir / VERSIONS_FILE, environment_info(), VERSIONS_FORMAT)
 
+    # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
+    evaluator = _evaluator(config)
     pool = level_pool(config) if pool is None else pool
     env, env_params = make_env(config.env)
     network = make_network(config.model, config.env)
@@ -86,16 +85,24 @@ def train(
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
         runner = _with_params(runner, init_params, settings)
-
-    manager = checkpoint_manager(run_dir)
     start = 0
-    if resume and manager.latest_step() is not None:
-        start = int(manager.latest_step())
-        runner = restore_runner(manager, start, runner)
-        _truncate_metrics(run_dir / METRICS_FILE, start)
+    if resume and (run_dir / CHECKPOINTS).is_dir():
+        reader = checkpoint_manager(run_dir, read_only=True)
+        if reader.latest_step() is not None:
+            start = int(reader.latest_step())
+            runner = restore_runner(reader, start, runner)
 
-    logger = _wandb_run(config, run_dir, resume)
-    with open(run_dir / METRICS_FILE, "a") as log:
+    try:
+        run_dir.mkdir(parents=True, exist_ok=True)
+        save_config(config, saved)
+        atomic_write_json(run_dir / VERSIONS_FILE, environment_info(), VERSIONS_FORMAT)
+        _truncate_metrics(run_dir / METRICS_FILE, start)  # a resumed run keeps only the lines it will not redo
+        manager = checkpoint_manager(run_dir)
+        logger = _wandb_run(config, run_dir, resume)
+        log = open(run_dir / METRICS_FILE, "a")  # noqa: SIM115 (closed below, after the last update)
+    except OSError as exc:
+        raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
+    with log:
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
             runner, metrics = update(runner, env_params, pool)
@@ -103,14 +110,23 @@ def train(
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
+            if not all(math.isfinite(v) for v in metrics.values()):
+                bad = sorted(k for k, v in metrics.items() if not math.isfinite(v))
+                raise UserError(
+                    f"{run_dir}: update {u + 1}: {', '.join(bad)} not finite: training diverged (ppo.lr "
+                    f"{settings.lr:g}, max_grad_norm {settings.max_grad_norm:g}); nothing of this update was kept"
+                )
             last = u + 1 == settings.num_updates
             if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or last):
                 record |= _evaluation(evaluator, runner.params, config.run.seed)
-            log.write(json.dumps(record) + "\n")
-            log.flush()
-            every = config.run.checkpoint_every
-            if (every and (u + 1) % every == 0) or last:
-                save_runner(manager, u + 1, runner)
+            try:
+                log.write(json.dumps(record) + "\n")
+                log.flush()
+                every = config.run.checkpoint_every
+                if (every and (u + 1) % every == 0) or last:
+                    save_runner(manager, u + 1, runner)
+            except OSError as exc:
+                raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
             if logger is not None:
                 logger.log(record, step=steps)
             if progress is not None:
@@ -190,8 +206,16 @@ def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
 
 
 def _truncate_metrics(path: Path, last_update: int) -> None:
-    """Drop metric lines written after the checkpoint a run resumes from."""
+    """Keep the metric lines of updates up to `last_update` (the checkpoint a run resumes from; 0 before the
+    first); a torn line from a kill mid-write is dropped with the rest."""
     if not path.exists():
         return
-    lines = [line for line in path.read_text().splitlines() if line and json.loads(line)["update"] <= last_update]
-    path.write_text("".join(line + "\n" for line in lines))
+    kept = []
+    for line in path.read_text(encoding="utf-8", errors="replace").splitlines():
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError:
+            continue
+        if isinstance(record, dict) and isinstance(record.get("update"), int) and record["update"] <= last_update:
+            kept.append(line)
+    atomic_write_text(path, "".join(line + "\n" for line in kept))

@@ -55,7 +55,7 @@ def test_bad_level_file_exit_2_naming_file_and_field(monkeypatch, capsys, car_fi
     car_file.write_text(json.dumps(data))
     code, out = _run_main(monkeypatch, capsys, "validate", str(car_file))
     assert code == 2
-    assert f"{car_file}: bodies[1] 'wheel': radius: must be > 0, got 0" in out.err
+    assert f"{car_file}: bodies[1] 'wheel': radius: must be > 0 and <= 5, got 0" in out.err
     assert "Traceback" not in out.err
 
 
