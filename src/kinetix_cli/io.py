@@ -30,7 +30,7 @@ def _kind(path: Path) -> str | None:
     """'file', 'folder', 'special file' (FIFO, device, socket), or None when nothing is there."""
     try:
         mode = path.stat().st_mode
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):  # nothing there (or a file where a parent folder should be)
         return None
     except OSError as exc:
         raise UserError(f"{path}: cannot inspect: {exc.strerror}") from None

@@ -13,6 +13,7 @@ from pathlib import Path
 from kinetix_cli.errors import LevelError, UserError
 from kinetix_cli.io import atomic_write_text, read_json
 from kinetix_cli.levels.format import format_level_json
+from kinetix_cli.levels.levelset import MANIFEST_FILE, PROGRESS_FILE
 from kinetix_cli.levels.parse import LevelSpec, parse_level
 from kinetix_cli.levels.reference import Note, convert_reference_level, is_reference_level
 
@@ -28,6 +29,12 @@ def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
     for path in map(Path, paths):
         if path.is_dir():
             found = sorted(path.rglob("*.json"))
+            for folder in sorted({f.parent for f in found}):
+                if (folder / MANIFEST_FILE).is_file() or (folder / PROGRESS_FILE).is_file():
+                    raise UserError(
+                        f"{folder}: a generated level set, not level files; train on it with `kinetix pretrain "
+                        "--levels`, or write levels out with `kinetix levels export`"
+                    )
             if not found:
                 raise UserError(f"{path}: no level files (*.json) in this folder")
             files += found

@@ -74,3 +74,12 @@ def _format(value: Any, depth: int) -> str:
         return "[\n" + ",\n".join(items) + "\n" + pad + "]"
     items = [f"{inner}{json.dumps(k)}: {_format(v, depth + 1)}" for k, v in value.items()]
     return "{\n" + ",\n".join(items) + "\n" + pad + "}"
+
+
+def brief(value: Any, limit: int = 60) -> str:
+    """A value as JSON for a message, cut to `limit` characters (a hostile file may hold megabytes)."""
+    try:
+        text = json.dumps(value)
+    except (TypeError, ValueError):  # e.g. an integer too long to print
+        text = f"a {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 3] + "..."

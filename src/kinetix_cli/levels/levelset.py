@@ -28,7 +28,7 @@ from engine import SIZES, Scene
 from kinetix_cli.constants import LEVELSET_FORMAT, LEVELSET_PROGRESS_FORMAT
 from kinetix_cli.env.level import Level, empty_bindings, index_level, make_level
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write, atomic_write_json, read_format
+from kinetix_cli.io import atomic_write, atomic_write_json, check_output_dir, read_format
 from kinetix_cli.provenance import tool_version
 
 PROGRESS_FORMAT = LEVELSET_PROGRESS_FORMAT
@@ -176,18 +176,22 @@ def generate_levelset(
     stats["duplicates"], until `count` levels are kept. Shards are written as they fill; memory holds about
     one shard plus one chunk. `progress(kept, stats)` is called after each chunk with the summed counters.
     """
-    out = Path(out_dir)
+    out = check_output_dir(out_dir, "--out")
     if size not in SIZES:
         raise UserError(f"--size: unknown size {size!r}; choose one of {', '.join(SIZES)}")
     if count < 1 or shard_size < 1:
         raise UserError(f"--count and --shard-size must be >= 1, got {count} and {shard_size}")
     identity = json.loads(json.dumps(dict(size=size, count=count, seed=seed, shard_size=shard_size, settings=settings)))
+    template = to_arrays(template_level(size))
+    _remove_temporaries(out)
     if (out / MANIFEST_FILE).is_file():
         manifest = read_format(out / MANIFEST_FILE, LEVELSET_FORMAT)
         _check_identity(out, manifest, identity)
+        _check_manifest(out / MANIFEST_FILE, manifest)
+        for entry in manifest["shards"]:  # a finished set is only reported as written if its bytes are intact
+            read_shard(out / entry["file"], entry, template)
         (out / PROGRESS_FILE).unlink(missing_ok=True)  # left by a crash just after the manifest was written
         return manifest
-    template = to_arrays(template_level(size))
     run = _resume(out, identity, template)
     idle = 0  # chunks in a row that added no level
     while run.kept < count:
@@ -208,6 +212,13 @@ def generate_levelset(
     atomic_write_json(out / MANIFEST_FILE, manifest, LEVELSET_FORMAT)
     (out / PROGRESS_FILE).unlink()
     return {"format": LEVELSET_FORMAT, **manifest}
+
+
+def _remove_temporaries(out: Path) -> None:
+    """Remove the temporary files a killed write left in a set's folder (`.<name>.*.tmp`, see `io.atomic_write`)."""
+    if out.is_dir():
+        for stale in out.glob(".*.tmp"):
+            stale.unlink(missing_ok=True)
 
 
 def _chunk(chunk_fn: Callable, i: int, template: Arrays) -> tuple[Arrays, dict]:
@@ -270,6 +281,13 @@ def _resume(out: Path, identity: dict, template: Arrays) -> _Run:
         run = _Run(saved["next_chunk"], saved["offset"], saved["stats"], saved["shards"])
     except KeyError as e:
         raise UserError(f"{out / PROGRESS_FILE}: {e.args[0]}: missing; delete the directory to start over") from None
+    file = out / PROGRESS_FILE
+    for field, value in (("next_chunk", run.next_chunk), ("offset", run.offset)):
+        if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+            raise UserError(f"{file}: {field}: expected an integer >= 0; delete the directory to start over")
+    if not isinstance(run.stats, dict):
+        raise UserError(f"{file}: stats: expected an object; delete the directory to start over")
+    _check_shards(file, run.shards, allow_empty=True)
     for entry in run.shards:
         run.hashes.update(level_digests(read_shard(out / entry["file"], entry, template)))
         run.kept += entry["count"]
@@ -309,15 +327,23 @@ def _check_manifest(file: Path, manifest: dict) -> None:
 
     if manifest.get("size") not in SIZES:
         bad("size", f"expected one of {', '.join(SIZES)}, got {manifest.get('size')!r}")
+    for field, kind in (("seed", int), ("stats", dict), ("settings", dict)):
+        if not isinstance(manifest.get(field), kind) or isinstance(manifest.get(field), bool):
+            bad(field, f"missing or not {'an integer' if kind is int else 'an object'}")
     shards = manifest.get("shards")
-    if not isinstance(shards, list):
-        bad("shards", "expected a list")
+    _check_shards(file, shards, allow_empty=False)
+    if not isinstance(manifest.get("count"), int) or manifest["count"] != sum(e["count"] for e in shards):
+        bad("count", f"{manifest.get('count')!r} is not the sum of the shard counts")
+
+
+def _check_shards(file: Path, shards, allow_empty: bool) -> None:
+    """Raise a UserError unless `shards` is a list of {file: a plain file name, count: int, sha256: str}."""
+    if not isinstance(shards, list) or not (shards or allow_empty):
+        raise UserError(f"{file}: shards: expected a {'' if allow_empty else 'non-empty '}list of shard entries")
     for k, entry in enumerate(shards):
         ok = isinstance(entry, dict) and isinstance(entry.get("count"), int) and isinstance(entry.get("sha256"), str)
         if not ok or not isinstance(entry.get("file"), str) or Path(entry["file"]).name != entry["file"]:
-            bad(f"shards[{k}]", "expected {file: a plain file name, count: int, sha256: str}")
-    if not isinstance(manifest.get("count"), int) or manifest["count"] != sum(e["count"] for e in shards):
-        bad("count", f"{manifest.get('count')!r} is not the sum of the shard counts")
+            raise UserError(f"{file}: shards[{k}]: expected {{file: a plain file name, count: int, sha256: str}}")
 
 
 def level_at(levelset: LevelSet, index: int) -> Level:

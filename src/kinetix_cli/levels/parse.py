@@ -20,7 +20,7 @@ from engine import SIZES, BodyRef, Params, Scene, SceneError, Static
 from kinetix_cli.constants import LEVEL_FORMAT, NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROLE_NAMES
 from kinetix_cli.env.level import Bindings, Level, make_level
 from kinetix_cli.errors import LevelError
-from kinetix_cli.levels.format import ARENA_KEYS, DEFAULT_GRAVITY, LIMITS, PARAM_LIMITS
+from kinetix_cli.levels.format import ARENA_KEYS, DEFAULT_GRAVITY, LIMITS, PARAM_LIMITS, brief
 
 _TOP_KEYS = {"format", "name", "description", "size", "gravity", "arena", "bodies", "joints", "thrusters", "params"}
 _TOP_KEYS |= {"solution"}  # checked by `kinetix_cli.levels.solution.decode_solution` when replayed
@@ -149,25 +149,25 @@ class _Parser:
         except OverflowError:  # an integer literal beyond any float
             ok = False
         if not ok:
-            raise self.fail(entity, field, f"must be a finite number, got {_short(value)}")
+            raise self.fail(entity, field, f"must be a finite number, got {brief(value)}")
         if value < low or value > high or (strict_low and value == low):
             bound = f"> {low:g} and <= {high:g}" if strict_low else f"in [{low:g}, {high:g}]"
-            raise self.fail(entity, field, f"must be {bound}, got {_short(value)}")
+            raise self.fail(entity, field, f"must be {bound}, got {brief(value)}")
         return float(value)
 
     def vector(self, entity: str, field: str, value: Any) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:
-            raise self.fail(entity, field, f"must be [x, y], got {_short(value)}")
+            raise self.fail(entity, field, f"must be [x, y], got {brief(value)}")
         return (self.number(entity, field, value[0]), self.number(entity, field, value[1]))
 
     def boolean(self, entity: str, field: str, value: Any) -> bool:
         if not isinstance(value, bool):
-            raise self.fail(entity, field, f"must be true or false, got {_short(value)}")
+            raise self.fail(entity, field, f"must be true or false, got {brief(value)}")
         return value
 
     def string(self, entity: str, field: str, value: Any) -> str:
         if not isinstance(value, str) or not value:
-            raise self.fail(entity, field, f"must be a non-empty string, got {_short(value)}")
+            raise self.fail(entity, field, f"must be a non-empty string, got {brief(value)}")
         if len(value) > MAX_NAME:
             raise self.fail(entity, field, f"at most {MAX_NAME} characters, got {len(value):,}")
         return value
@@ -175,7 +175,7 @@ class _Parser:
     def choice(self, entity: str, field: str, value: Any, choices: tuple) -> Any:
         if value not in choices or isinstance(value, bool):
             options = ", ".join(json.dumps(c) for c in choices)
-            raise self.fail(entity, field, f"must be one of {options}, got {_short(value)}")
+            raise self.fail(entity, field, f"must be one of {options}, got {brief(value)}")
         return value
 
     def items(self, field: str, value: Any) -> list:
@@ -187,7 +187,7 @@ class _Parser:
     def level(self, data: Any) -> LevelSpec:
         if isinstance(data, dict) and "format" in data and data["format"] != LEVEL_FORMAT:  # the version first
             raise self.fail(
-                "level", "format", f"this kinetix reads {json.dumps(LEVEL_FORMAT)} only, got {_short(data['format'])}"
+                "level", "format", f"this kinetix reads {json.dumps(LEVEL_FORMAT)} only, got {brief(data['format'])}"
             )
         data = self.keys("level", data, _TOP_KEYS, required=("format", "bodies"))
         name = self.string("level", "name", data.get("name", Path(self.source).stem[:MAX_NAME]))
@@ -275,7 +275,7 @@ class _Parser:
         if shape == "box":
             w, h = self.vector(entity, "size", body["size"])
             if w <= 0 or h <= 0:
-                raise self.fail(entity, "size", f"width and height must be > 0, got {_short(body['size'])}")
+                raise self.fail(entity, "size", f"width and height must be > 0, got {brief(body['size'])}")
             ref = scene.add_box(position, (w, h), angle, name=name, **material)
         elif shape == "polygon":
             vertices = body["vertices"]
@@ -291,7 +291,7 @@ class _Parser:
     def body_ref(self, refs: dict, entity: str, field: str, value: Any) -> BodyRef:
         name = self.string(entity, field, value)
         if name not in refs:
-            raise self.fail(entity, field, f"no body named {_short(name)}")
+            raise self.fail(entity, field, f"no body named {brief(name)}")
         return refs[name]
 
     def joint(self, scene: Scene, refs: dict, entity: str, joint: Any) -> int | None:
@@ -346,11 +346,3 @@ class _Parser:
         params = self.keys("params", params, _PARAM_KEYS)
         return {key: self.number("params", key, value, PARAM_LIMITS[key]) for key, value in params.items()}
 
-
-def _short(value: Any, limit: int = 60) -> str:
-    """A value as JSON for a message, cut to `limit` characters (a hostile file may hold megabytes)."""
-    try:
-        text = json.dumps(value)
-    except (TypeError, ValueError):  # e.g. an integer too long to print
-        text = f"a {type(value).__name__}"
-    return text if len(text) <= limit else text[: limit - 3] + "..."

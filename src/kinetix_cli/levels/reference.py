@@ -30,6 +30,7 @@ from kinetix_cli.constants import NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROL
 from kinetix_cli.env.level import empty_bindings, make_level
 from kinetix_cli.errors import LevelError
 from kinetix_cli.levels.export import export_level
+from kinetix_cli.levels.format import brief
 
 _SIZE_OF_COUNTS = {(s.num_polygons, s.num_circles, s.num_joints, s.num_thrusters): k for k, s in SIZES.items()}
 # Reference env_params that are our engine `Params` (ours default to the reference's values).
@@ -140,20 +141,24 @@ class _Converter:
 
     def number(self, obj: dict, key: str, where: str) -> float:
         value = self.get(obj, key, where)
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-            raise self.fail(f"{where}.{key}", f"must be a finite number, got {value!r}")
+        try:
+            ok = not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
+        except OverflowError:  # an integer beyond any float
+            ok = False
+        if not ok:
+            raise self.fail(f"{where}.{key}", f"must be a finite number, got {brief(value)}")
         return float(value)
 
     def integer(self, obj: dict, key: str, where: str) -> int:
         value = self.get(obj, key, where)
         if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(f"{where}.{key}", f"must be an integer, got {value!r}")
+            raise self.fail(f"{where}.{key}", f"must be an integer, got {brief(value)}")
         return value
 
     def flag(self, obj: dict, key: str, where: str) -> bool:
         value = self.get(obj, key, where)
         if not isinstance(value, bool):
-            raise self.fail(f"{where}.{key}", f"must be true or false, got {value!r}")
+            raise self.fail(f"{where}.{key}", f"must be true or false, got {brief(value)}")
         return value
 
     def vector(self, obj: dict, key: str, where: str, length: int = 2) -> np.ndarray:
@@ -263,7 +268,8 @@ class _Converter:
         where, entity = f"env_state.polygon[{k}]", f"polygon {k} (arena)"
         position = self.vector(body, "position", where)
         n = self.integer(body, "n_vertices", where)
-        vertices = [self.vector(body["vertices"], str(v), f"{where}.vertices") for v in range(min(n, 4))]
+        corners = self.get(body, "vertices", where)
+        vertices = [self.vector(corners, str(v), f"{where}.vertices") for v in range(min(max(n, 0), 4))]
         ref_position, ref_vertices = _REFERENCE_ARENA[k]
         same = np.allclose(position, ref_position, atol=1e-3) and n == 4
         same = same and {tuple(np.round(v, 3)) for v in vertices} == {tuple(np.round(v, 3)) for v in ref_vertices}
@@ -298,7 +304,8 @@ class _Converter:
             n = self.integer(body, "n_vertices", where)
             if n not in (3, 4):
                 raise self.fail(f"{where}.n_vertices", f"must be 3 or 4, got {n}")
-            vertices = np.array([self.vector(body["vertices"], str(v), f"{where}.vertices") for v in range(n)])
+            corners = self.get(body, "vertices", where)
+            vertices = np.array([self.vector(corners, str(v), f"{where}.vertices") for v in range(n)])
             padded = np.concatenate([vertices, vertices[:1]]) if n == 3 else vertices
             area, centroid = polygon_area_centroid(padded, np)
             if abs(area) < 1e-8:
@@ -443,16 +450,17 @@ class _Converter:
             return
         n = len(shapes)
         linked = np.eye(n, dtype=bool)
-        for joint in joints:
-            if joint["active"]:
-                a, b = joint["a_index"], joint["b_index"]
+        for n_joint, joint in enumerate(joints):
+            where = f"env_state.joint[{n_joint}]"
+            if self.flag(joint, "active", where):
+                a, b = self.integer(joint, "a_index", where), self.integer(joint, "b_index", where)
                 if 0 <= a < n and 0 <= b < n:
                     linked[a, b] = linked[b, a] = True
         for _ in range(max(1, math.ceil(math.log2(max(n, 2))))):
             linked = (linked.astype(int) @ linked.astype(int)) > 0
         try:
             stored = np.array([[bool(matrix[str(i)][str(k)]) for k in range(n)] for i in range(n)])
-        except (KeyError, TypeError):
+        except (KeyError, TypeError, IndexError):
             raise self.fail("env_state.collision_matrix", f"must be a {n} x {n} table of true/false") from None
         differ = [(i, k) for i, k in zip(*np.nonzero(stored == linked), strict=True) if i < k]
         if differ:
@@ -467,6 +475,9 @@ class _Converter:
         """Engine `Params` overrides for reference env_params that differ from ours; notes for the rest."""
         env_params = data.get("env_params", {})
         static_params = data.get("static_env_params", {})
+        for section, value in (("env_params", env_params), ("static_env_params", static_params)):
+            if not isinstance(value, dict):
+                raise self.fail(section, f"must be an object, got {brief(value)}")
         defaults = Params()
         overrides = {}
         for ref_key, our_key in _PARAMS.items():
@@ -478,5 +489,5 @@ class _Converter:
         for section, values in (("env_params", env_params), ("static_env_params", static_params)):
             for key, (default, why) in _UNCARRIED[section].items():
                 if key in values and values[key] != default:
-                    self.note(section, key, f"{values[key]!r} is not the default {default!r}; {why}")
+                    self.note(section, key, f"{brief(values[key])} is not the default {default!r}; {why}")
         return overrides

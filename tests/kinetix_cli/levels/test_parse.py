@@ -70,7 +70,11 @@ def test_auto_motor_arena_anchor_and_overrides():
 @pytest.mark.parametrize(
     "path, value, message",
     [
-        ("format", "kinetix-level/2", "level: format: this kinetix reads \"kinetix-level/1\" only, got \"kinetix-level/2\""),
+        (
+            "format",
+            "kinetix-level/2",
+            'level: format: this kinetix reads "kinetix-level/1" only, got "kinetix-level/2"',
+        ),
         ("bodies.0.role", "purple", "bodies[0] 'chassis': role: must be one of"),
         ("bodies.1.radius", -0.2, "bodies[1] 'wheel': radius: must be > 0"),
         ("bodies.1.radius", _DELETE, "bodies[1] 'wheel': radius: missing"),

@@ -1,0 +1,124 @@
+"""Values are checked for meaning, not only type: every number finite and in a meaningful range (the range in the
+message), in level files, the reference format, configs and flags; a run that diverges stops instead of saving NaN."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+
+import pytest
+
+from helpers.cli import kinetix
+from helpers.levels import CAR
+from helpers.paths import REFERENCE_LEVELS
+from helpers.runs import tiny_config
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl import train as train_module
+
+
+def level_file(tmp_path, change, name="car.json"):
+    data = copy.deepcopy(CAR)
+    change(data)
+    path = tmp_path / name
+    path.write_text(json.dumps(data))
+    return path
+
+
+def set_(path, value):
+    def change(data):
+        node = data
+        for key in path[:-1]:
+            node = node[key]
+        node[path[-1]] = value
+
+    return change
+
+
+BAD_LEVEL_VALUES = [
+    (("bodies", 0, "density"), 1e39, "bodies[0] 'chassis': density: must be > 0 and <= 10000, got 1e+39"),
+    (("bodies", 0, "density"), 10**400, "density: must be a finite number"),
+    (("bodies", 0, "position"), [1e30, 1.0], "position: must be in [-15, 15], got 1e+30"),
+    (("bodies", 1, "radius"), float("inf"), "radius: must be a finite number, got Infinity"),
+    (("bodies", 1, "radius"), float("nan"), "radius: must be a finite number, got NaN"),
+    (("bodies", 0, "velocity"), [0.0, -1e6], "velocity: must be in [-100, 100]"),
+    (("params",), {"dt": 0}, "params: dt: must be > 0 and <= 0.1, got 0"),
+    (("params",), {"dt": -0.01}, "params: dt: must be > 0 and <= 0.1, got -0.01"),
+    (("params",), {"base_motor_power": -5}, "params: base_motor_power: must be in [0, 1e+06]"),
+    (("gravity",), [0, 1e9], "gravity: must be in [-1000, 1000]"),
+    (("thrusters", 0, "power"), 1e12, "power: must be in [0, 10000]"),
+    (("joints", 0, "motor", "speed"), -1, "speed: must be in [0, 100]"),
+]
+
+
+@pytest.mark.parametrize(("path", "value", "message"), BAD_LEVEL_VALUES, ids=lambda x: str(x)[:30])
+def test_level_values_out_of_range_are_one_line(capsys, tmp_path, path, value, message):
+    line = kinetix(capsys, "validate", level_file(tmp_path, set_(path, value))).error_line
+    assert message in line and "car.json" in line
+
+
+def test_reference_env_params_are_checked_too(capsys, tmp_path):
+    data = json.loads((REFERENCE_LEVELS / "s" / "h0_weak_thrust.json").read_text())
+    data["env_params"]["dt"] = 0.0
+    (tmp_path / "ref.json").write_text(json.dumps(data))
+    assert "params: dt: must be > 0 and <= 0.1, got 0" in kinetix(capsys, "validate", tmp_path / "ref.json").error_line
+
+
+BAD_SETTINGS = [
+    ("ppo.lr=.inf", "ppo.lr: expected a finite number, got inf"),
+    ("ppo.lr=.nan", "ppo.lr: expected a finite number, got nan"),
+    ("ppo.lr=2", "ppo.lr: must be > 0 and <= 1 (got 2.0)"),
+    (f"run.seed={2**40}", "run.seed: must be >= 0 and <= 2.14748e+09"),
+    ("run.seed=-1", "run.seed: must be >= 0"),
+    (f"env.max_steps={2**40}", "env.max_steps: must be >= 1 and <= 2.14748e+09"),
+    ("env.frame_skip=0", "env.frame_skip: must be >= 1 and <= 1000 (got 0)"),
+    (f"ppo.num_envs={10**400}", "ppo.num_envs: must be >= 1"),
+    ("model.heads=6", "model.heads: must be a multiple of 4"),
+    ("ppo.max_grad_norm=0", "ppo.max_grad_norm: must be > 0"),
+    ("env.observation=pixels", "model.name: 'pi-mlp' needs env.observation 'symbolic-entity', got 'pixels'"),
+]
+
+
+@pytest.mark.parametrize(("setting", "message"), BAD_SETTINGS, ids=lambda x: str(x)[:24])
+def test_config_values_out_of_range_are_one_line(capsys, tmp_path, setting, message):
+    args = ["pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "run", "--set", setting]
+    if setting == "model.heads=6":
+        args += ["--set", "model.name=transformer", "--set", "model.width=120"]
+    line = kinetix(capsys, *args).error_line
+    assert message in line and not (tmp_path / "run").exists()
+
+
+BAD_FLAGS = [
+    (["generate", "--count", "0", "--out", "{TMP}/s"], "--count"),
+    (["generate", "--count", "4", "--seed", "-1", "--out", "{TMP}/s"], "--seed"),
+    (["generate", "--count", "4", "--seed", str(2**40), "--out", "{TMP}/s"], "--seed"),
+    (["generate", "--count", "4", "--random-max-rate", "nan", "--out", "{TMP}/s"], "--random-max-rate"),
+    (["generate", "--count", "4", "--shard-size", str(2**40), "--out", "{TMP}/s"], "--shard-size"),
+    (["bench", "engine", "--min-time", "inf"], "--min-time"),
+    (["bench", "engine", "--envs", "99999999999"], "--envs"),
+    (["eval", "{TMP}", "--attempts", "0"], "--attempts"),
+    (["rollout", "levels/s/pad-to-pad.json", "--seed", str(2**40)], "--seed"),
+    (["solve", "levels/s/pad-to-pad.json", "--population", "1"], "--population"),
+    (["levels", "show", "{TMP}", "--grid", "100000", "-o", "{TMP}/x.png"], "--grid"),
+]
+
+
+@pytest.mark.parametrize(("args", "flag"), BAD_FLAGS, ids=lambda x: " ".join(x)[:30] if isinstance(x, list) else x)
+def test_flag_values_out_of_range_are_one_line(capsys, tmp_path, args, flag):
+    line = kinetix(capsys, *(a.format(TMP=tmp_path) for a in args)).error_line
+    assert flag in line
+
+
+def test_a_run_that_diverges_stops_without_saving(tmp_path, tiny_pool, monkeypatch):
+    """NaN losses end the run with one line (exit 2) and no checkpoint of the diverged update."""
+    real = train_module.ppo_update
+
+    def diverging(runner, env_params, levels, **static):
+        runner, metrics = real(runner, env_params, levels, **static)
+        return runner, metrics | {"loss": metrics["loss"] * math.nan}
+
+    monkeypatch.setattr(train_module, "ppo_update", diverging)
+    with pytest.raises(UserError, match="update 1: loss not finite: training diverged"):
+        train_module.train(tiny_config(), tmp_path / "run", pool=tiny_pool)
+    assert not (tmp_path / "run" / "checkpoints" / "1").exists()
+    assert (tmp_path / "run" / "metrics.jsonl").read_text() == ""
