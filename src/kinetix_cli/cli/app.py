@@ -52,6 +52,7 @@ def main() -> None:
     """
     os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(Path.home() / ".cache" / "kinetix" / "jax"))
     warnings.showwarning = show_warning
+    sys.unraisablehook = _quiet_closed_event_loops
     try:
         code = app(standalone_mode=False)
     except UserError as exc:
@@ -70,6 +71,14 @@ def main() -> None:
             say(("error:", "red"), f" {where}{exc.format_message()} (see --help)", stderr=True)
         sys.exit(2)
     sys.exit(code if isinstance(code, int) else 0)
+
+
+def _quiet_closed_event_loops(unraisable) -> None:
+    """Drop the "Event loop is closed" callbacks orbax's async readers leave behind when a damaged checkpoint
+    fails to load (the user has already read the one error line); report anything else as Python would."""
+    if isinstance(unraisable.exc_value, RuntimeError) and "Event loop is closed" in str(unraisable.exc_value):
+        return
+    sys.__unraisablehook__(unraisable)
 
 
 def _is_usage_error(exc: Exception) -> bool:

@@ -345,4 +345,3 @@ class _Parser:
     def params(self, params: Any) -> dict[str, float]:
         params = self.keys("params", params, _PARAM_KEYS)
         return {key: self.number("params", key, value, PARAM_LIMITS[key]) for key, value in params.items()}
-

@@ -6,9 +6,11 @@ is the whole `Runner` (parameters, optimiser state, environments, PRNG key as ra
 continues bit for bit.
 
 Checkpoints prove their bytes: beside orbax's files, `checkpoints/<update>/kinetix-checksums.json`
-(`kinetix-checksums/1`) holds the sha256 of every array's data, verified whenever a checkpoint is read; a
-checkpoint without that file (runs from before it existed) is read unverified. Any checkpoint that cannot be read,
-does not match its checksums, or does not fit the run's config is one `UserError` naming it.
+(`kinetix-checksums/1`) holds the sha256 of every file orbax wrote (array data and metadata), verified before
+orbax reads anything; the arrays' names, shapes and dtypes (orbax's metadata) are compared with the run's config
+before they are restored. So a damaged or mismatched checkpoint is one `UserError` naming it and the first bad
+file or array, and orbax never fails half-way. A checkpoint without a checksum file (runs from before it existed)
+is read unverified.
 """
 
 from __future__ import annotations
@@ -35,20 +37,22 @@ CHECKSUMS_FORMAT = "kinetix-checksums/1"
 
 def checkpoint_manager(run_dir: Path, read_only: bool = False) -> ocp.CheckpointManager:
     """The orbax manager of `run_dir/checkpoints` (`read_only`: never creates or deletes anything)."""
-    options = ocp.CheckpointManagerOptions(max_to_keep=KEEP, create=not read_only, read_only=read_only)
+    options = ocp.CheckpointManagerOptions(max_to_keep=KEEP, create=not read_only)
     return ocp.CheckpointManager(Path(run_dir).resolve() / CHECKPOINTS, options=options)
 
 
-def leaf_digests(tree) -> dict[str, str]:
-    """sha256 of every array leaf's bytes, keyed by its path ("params/params/Dense_0/kernel")."""
-    digests = {}
-    for path, leaf in jax.tree_util.tree_flatten_with_path(tree)[0]:
-        name = "/".join(str(getattr(k, "name", getattr(k, "key", getattr(k, "idx", k)))) for k in path)
-        array = np.ascontiguousarray(np.asarray(leaf))
-        digests[name] = hashlib.sha256(
-            array.dtype.str.encode() + str(array.shape).encode() + array.tobytes()
-        ).hexdigest()
-    return digests
+def leaf_name(path) -> str:
+    """A tree path as "params/params/Dense_0/kernel" (dataclass fields, dict keys and indices alike)."""
+    return "/".join(str(getattr(k, "name", getattr(k, "key", getattr(k, "idx", k)))) for k in path)
+
+
+def file_digests(step_dir: Path) -> dict[str, str]:
+    """sha256 of every file under a checkpoint folder but the checksum file, by path relative to it."""
+    return {
+        str(file.relative_to(step_dir)): hashlib.sha256(file.read_bytes()).hexdigest()
+        for file in sorted(step_dir.rglob("*"))
+        if file.is_file() and file.name != CHECKSUMS_FILE
+    }
 
 
 def _on_disk(runner: Runner) -> Runner:
@@ -58,41 +62,64 @@ def _on_disk(runner: Runner) -> Runner:
 def save_runner(manager: ocp.CheckpointManager, update: int, runner: Runner) -> None:
     """Write checkpoint `update` and its checksums, and wait until both are on disk (a kill after this loses no
     finished update)."""
-    runner = _on_disk(runner)
-    manager.save(update, args=ocp.args.StandardSave(runner))
+    manager.save(update, args=ocp.args.StandardSave(_on_disk(runner)))
     manager.wait_until_finished()
-    checksums = Path(manager.directory) / str(update) / CHECKSUMS_FILE
-    atomic_write_json(checksums, {"update": update, "leaves": leaf_digests(jax.device_get(runner))}, CHECKSUMS_FORMAT)
+    step_dir = Path(manager.directory) / str(update)
+    atomic_write_json(step_dir / CHECKSUMS_FILE, {"update": update, "files": file_digests(step_dir)}, CHECKSUMS_FORMAT)
 
 
-def _verify(where: Path, restored, prefix: str = "") -> None:
-    """Raise unless every restored leaf under `prefix` matches the checksum recorded for it."""
-    file = where / CHECKSUMS_FILE
+def verify_checkpoint(step_dir: Path) -> None:
+    """Raise a `UserError` unless every file recorded in the checkpoint's checksums is there with its bytes."""
+    file = step_dir / CHECKSUMS_FILE
     if not file.exists():
         return
-    recorded = read_format(file, CHECKSUMS_FORMAT).get("leaves")
-    if not isinstance(recorded, dict):
-        raise UserError(f"{file}: leaves: missing; the checksums of this checkpoint are damaged")
-    actual = leaf_digests(restored)
-    wanted = {k: v for k, v in recorded.items() if k.startswith(prefix)}
-    damaged = sorted(k for k, v in wanted.items() if actual.get(k) != v)
-    if damaged:
-        raise UserError(f"{where}: array data does not match its checksums ({damaged[0]}); the checkpoint is damaged")
+    recorded = read_format(file, CHECKSUMS_FORMAT, UserError).get("files")
+    if not isinstance(recorded, dict) or not recorded:
+        raise UserError(f"{file}: files: missing; the checksums of this checkpoint are damaged")
+    actual = file_digests(step_dir)
+    for name, digest in sorted(recorded.items()):
+        if name not in actual:
+            raise UserError(f"{step_dir}: {name} is missing; the checkpoint is incomplete")
+        if actual[name] != digest:
+            raise UserError(f"{step_dir}: {name} does not match its checksum; the checkpoint is damaged")
+
+
+def _check_fits(step_dir: Path, like) -> None:
+    """Raise a `UserError` unless the checkpoint's arrays (orbax metadata, no array read) have the names, shapes
+    and dtypes of the tree `like`."""
+    try:
+        metadata = ocp.StandardCheckpointer().metadata(step_dir / "default").item_metadata.tree
+        saved = {
+            leaf_name(p): (tuple(m.shape), np.dtype(m.dtype))
+            for p, m in jax.tree_util.tree_flatten_with_path(metadata)[0]
+        }
+    except Exception as exc:  # orbax raises many types for unreadable metadata
+        raise UserError(f"{step_dir}: cannot read the checkpoint's metadata ({type(exc).__name__})") from None
+    wanted = {leaf_name(p): (np.shape(x), np.dtype(x.dtype)) for p, x in jax.tree_util.tree_flatten_with_path(like)[0]}
+    for name in sorted(set(saved) | set(wanted)):
+        if saved.get(name) != wanted.get(name):
+            raise UserError(
+                f"{step_dir}: written with other model or PPO settings than this run's config ({name}: "
+                f"{_describe(saved.get(name))} in the checkpoint, {_describe(wanted.get(name))} here)"
+            )
+
+
+def _describe(entry) -> str:
+    return "absent" if entry is None else f"{entry[1]}{list(entry[0])}"
 
 
 def restore_runner(manager: ocp.CheckpointManager, update: int, like: Runner) -> Runner:
     """Checkpoint `update`, verified, with the tree structure, shapes and dtypes of `like` (as host arrays: see
     `load_policy`). A checkpoint that is damaged or was written with other settings is a `UserError`."""
-    where = Path(manager.directory) / str(update)
+    step_dir = Path(manager.directory) / str(update)
+    verify_checkpoint(step_dir)
+    template = _on_disk(like)
+    _check_fits(step_dir, template)
     try:
-        restored = manager.restore(update, args=ocp.args.StandardRestore(_on_disk(like)))
-    except Exception as exc:  # orbax raises many types for damaged or mismatched checkpoints
-        raise UserError(
-            f"{where}: cannot restore it with this run's config (damaged, or written with other model or PPO "
-            f"settings: {type(exc).__name__})"
-        ) from None
+        restored = manager.restore(update, args=ocp.args.StandardRestore(template))
+    except Exception as exc:  # an unverified (old) checkpoint that orbax cannot read
+        raise UserError(f"{step_dir}: cannot restore it ({type(exc).__name__})") from None
     restored = jax.tree.map(np.asarray, restored)
-    _verify(where, restored)
     return restored.replace(key=jax.random.wrap_key_data(restored.key))
 
 
@@ -111,17 +138,16 @@ def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
     config = load_config(config_file)
     if not (run_dir / CHECKPOINTS).is_dir():
         raise UserError(f"{path}: no checkpoint in {run_dir / CHECKPOINTS} (the run wrote none yet)")
-    manager = checkpoint_manager(run_dir, read_only=True)
-    step = manager.latest_step() if step is None else step
-    if step is None or step not in manager.all_steps():
-        raise UserError(f"{path}: no checkpoint{'' if step is None else f' {step}'} in {run_dir / CHECKPOINTS}")
-    where = run_dir / CHECKPOINTS / str(step)
-    try:
-        restored = manager.restore(step, args=ocp.args.StandardRestore())
-        params = jax.tree.map(np.asarray, restored["params"])
-    except Exception as exc:  # orbax raises many types for damaged files
-        raise UserError(f"{where}: cannot read the checkpoint ({type(exc).__name__})") from None
-    _verify(where, {"params": params}, prefix="params/")
+    with checkpoint_manager(run_dir, read_only=True) as manager:
+        step = manager.latest_step() if step is None else step
+        if step is None or step not in manager.all_steps():
+            raise UserError(f"{path}: no checkpoint{'' if step is None else f' {step}'} in {run_dir / CHECKPOINTS}")
+        where = run_dir / CHECKPOINTS / str(step)
+        verify_checkpoint(where)
+        try:
+            params = jax.tree.map(np.asarray, manager.restore(step, args=ocp.args.StandardRestore())["params"])
+        except Exception as exc:  # an unverified (old) checkpoint that orbax cannot read
+            raise UserError(f"{where}: cannot read the checkpoint ({type(exc).__name__})") from None
     if not params_fit(config, params):
         raise UserError(f"{where}: its parameters do not fit the model in {config_file} (another model's checkpoint?)")
     return config, params, int(step)

@@ -87,10 +87,10 @@ def train(
         runner = _with_params(runner, init_params, settings)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
-        reader = checkpoint_manager(run_dir, read_only=True)
-        if reader.latest_step() is not None:
-            start = int(reader.latest_step())
-            runner = restore_runner(reader, start, runner)
+        with checkpoint_manager(run_dir, read_only=True) as reader:
+            if reader.latest_step() is not None:
+                start = int(reader.latest_step())
+                runner = restore_runner(reader, start, runner)
 
     try:
         run_dir.mkdir(parents=True, exist_ok=True)
@@ -102,7 +102,7 @@ def train(
         log = open(run_dir / METRICS_FILE, "a")  # noqa: SIM115 (closed below, after the last update)
     except OSError as exc:
         raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
-    with log:
+    with log, manager:
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
             runner, metrics = update(runner, env_params, pool)

@@ -1,0 +1,51 @@
+"""Messages tell the truth: user text prints as it is (no markup), versions are checked before fields, and each
+error says what is wrong and where."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+from helpers.cli import kinetix
+from helpers.levels import CAR
+from helpers.paths import REFERENCE_LEVELS
+
+
+def test_bracketed_file_names_print_whole(capsys, tmp_path):
+    draft = tmp_path / "[draft].json"
+    shutil.copy("levels/s/pad-to-pad.json", draft)
+    result = kinetix(capsys, "validate", draft)
+    assert result.code == 0 and f"ok {draft}" in result.out
+    missing = tmp_path / "[gone].json"
+    assert f"{missing}: no such file" in kinetix(capsys, "render", missing, "-o", tmp_path / "x.png").error_line
+
+
+def test_bracketed_values_print_whole(capsys, tmp_path):
+    (tmp_path / "car.json").write_text(json.dumps(CAR | {"gravity": [1]}))
+    assert "gravity: must be [x, y], got [1]" in kinetix(capsys, "validate", tmp_path / "car.json").error_line
+    line = kinetix(
+        capsys, "pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "r",
+        "--set", "levels.files=[a.json]",
+    ).error_line  # fmt: skip
+    assert "levels.files: is only used when levels.source is 'files' (got ('a.json',))" in line
+
+
+def test_a_future_level_version_is_named_before_its_new_keys(capsys, tmp_path):
+    (tmp_path / "v2.json").write_text(json.dumps(CAR | {"format": "kinetix-level/2", "wind": [1, 0]}))
+    line = kinetix(capsys, "validate", tmp_path / "v2.json").error_line
+    assert 'format: this kinetix reads "kinetix-level/1" only, got "kinetix-level/2"' in line and "wind" not in line
+
+
+def test_a_level_too_big_says_what_is_too_many(capsys, tmp_path):
+    bodies = [{"name": f"b{i}", "shape": "circle", "radius": 0.1, "position": [0.3 + 0.3 * i, 1]} for i in range(6)]
+    (tmp_path / "big.json").write_text(json.dumps({"format": "kinetix-level/1", "bodies": bodies}))
+    line = kinetix(capsys, "validate", tmp_path / "big.json").error_line
+    assert "too big for size l, the largest: scene: circles: has 6 but the size holds 4" in line
+
+
+def test_warnings_are_one_line_each_without_markup(capsys, tmp_path):
+    shutil.copy(REFERENCE_LEVELS / "m" / "arm_up.json", tmp_path / "[ref].json")  # a conversion with notes
+    result = kinetix(capsys, "validate", tmp_path / "[ref].json")
+    warnings = [line for line in result.err.splitlines() if line]
+    assert result.code == 0 and warnings
+    assert all(line.startswith(f"warning: {tmp_path}/[ref].json: ") for line in warnings)
