@@ -116,4 +116,5 @@ def test_pretrain_killed_then_resumed_equals_an_uninterrupted_run(tmp_path, env,
     kill_when([*PRETRAIN, *LONGER, "--run-dir", out], env, lambda: PRETRAIN_POINTS[point](out), point)
     run([*PRETRAIN, *LONGER, "--run-dir", out, "--resume"], env)
     assert metric_lines(out) == metric_lines(uninterrupted_run)
+    assert not list(out.rglob("*tmp*")), "the resumed run left the killed run's temporaries"
     jax.tree.map(np.testing.assert_array_equal, load_policy(out)[1], load_policy(uninterrupted_run)[1])

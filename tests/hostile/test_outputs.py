@@ -3,9 +3,11 @@ special files (FIFOs, devices) instead of replacing them, names the path in one 
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import stat
+from pathlib import Path
 
 import pytest
 
@@ -129,3 +131,29 @@ def test_written_files_keep_their_format_tags(capsys, tmp_path):
     assert json.loads(report.read_text())["format"] == "kinetix-import-report/1"
     level = json.loads((tmp_path / "s" / "h0_weak_thrust.json").read_text())
     assert level["format"] == "kinetix-level/1"
+
+
+def test_a_full_disk_is_one_line_and_keeps_the_old_file(capsys, tmp_path, monkeypatch):
+    out = tmp_path / "level.png"
+    out.write_bytes(b"the old picture")
+
+    def no_space(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "fsync", no_space)
+    line = kinetix(capsys, "render", LEVEL, "-o", out).error_line
+    assert f"{out}: cannot write: No space left on device" in line
+    assert out.read_bytes() == b"the old picture" and [p.name for p in tmp_path.iterdir()] == ["level.png"]
+
+
+def test_a_read_only_folder_is_refused_before_the_work(capsys, tmp_path, monkeypatch):
+    """Checked with os.access, so that it also holds when the tests run as root (where chmod cannot stop a write)."""
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real_access = os.access
+    monkeypatch.setattr(
+        os, "access", lambda p, mode: not (Path(p) == locked and mode & os.W_OK) and real_access(p, mode)
+    )
+    assert f"{locked} is not writable" in kinetix(capsys, "render", LEVEL, "-o", locked / "x.png").error_line
+    assert "is not writable" in kinetix(capsys, "generate", "--count", "4", "--out", locked).error_line
+    assert list(locked.iterdir()) == []
