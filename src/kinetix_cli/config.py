@@ -1,8 +1,8 @@
 """Typed experiment config: frozen dataclasses, loaded from YAML files in `experiments/`, overridden from the CLI.
 
-An experiment file has one mapping per section (`env`, `model`, `ppo`, `run`, `levels`); every field has a default
-except `ppo.total_timesteps`. `load_config(path, ["ppo.lr=3e-4"])` reads a file, applies `--set` overrides and
-returns a validated `ExperimentConfig`; `save_config` writes the resolved config (every field, with a
+An experiment file has one mapping per section (`env`, `model`, `ppo`, `run`, `levels`, `curriculum`); every field
+has a default except `ppo.total_timesteps`. `load_config(path, ["ppo.lr=3e-4"])` reads a file, applies `--set`
+overrides and returns a validated `ExperimentConfig`; `save_config` writes the resolved config (every field, with a
 `format: kinetix-experiment/1` line) that `load_config` reads back to an equal config.
 
 Every mistake is a `ConfigError` (a `UserError`: one line, the CLI exits 2) naming the file or `--set`, the dotted
@@ -52,7 +52,8 @@ Observation = Literal[OBSERVATION_TYPES]
 ActionKind = Literal[ACTION_TYPES]
 ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
-LevelSource = Literal["generated", "levelset", "files"]
+LevelSource = Literal["fresh", "generated", "levelset", "files"]
+CurriculumName = Literal["dr", "sfl"]
 
 
 class ConfigError(UserError):
@@ -234,8 +235,11 @@ class LevelSettings:
     """Where the training levels come from. Paths are relative to the working directory.
 
     Attributes:
-        source: 'generated' (random levels from the sampler, held in a pool on the device), 'levelset'
-            (a level set directory written by `kinetix generate`) or 'files' (level files, e.g. for fine-tuning).
+        source: 'fresh' (levels on the fly: every update samples `num_envs` new random levels inside the jitted
+            training step, and its episodes restart from them; the reference's default), 'generated'
+            (`pool_size` random levels sampled once at the start and held in a pool on the device), 'levelset'
+            (a level set directory written by `kinetix generate`: a fixed, reproducible set, filtered by no-op
+            and random play) or 'files' (level files, e.g. for fine-tuning).
         levelset: the level set directory (source 'levelset' only), else null.
         files: level files (`kinetix-level/1` JSON) to train on (source 'files' only), else empty.
         pool_size: generated levels held on the device (source 'generated'), sampled and filtered once at the start
@@ -263,6 +267,51 @@ class LevelSettings:
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
+class CurriculumSettings:
+    """Which of the source's levels the training episodes start from (`--set curriculum.name=sfl` switches).
+
+    Attributes:
+        name: 'dr' (domain randomisation: uniformly from the level source; the baseline) or 'sfl' (sampling for
+            learnability: every `refresh_every` updates the current policy plays `score_levels` levels drawn from
+            the source for `score_steps` steps each, restarting the same level whenever an episode ends; a level's
+            learnability is p (1 - p) with p its solve rate, and the `buffer_size` most learnable levels form the
+            buffer; each update then restarts a `buffer_share` of its episodes from buffer levels and the rest
+            from the source). The knobs below are used by 'sfl' only.
+        score_levels: levels scored per refresh (reference 12,288 = 3 x 4,096).
+        score_batch: levels played at once while scoring (bounds memory; divides `score_levels`).
+        score_steps: environment steps each scored level is played for [steps] (reference 512).
+        buffer_size: most learnable levels kept (reference 1,024).
+        refresh_every: updates between refreshes of the buffer [updates] (reference 128); the first is before
+            the first update.
+        buffer_share: share of each update's episodes that start from buffer levels (reference 0.5).
+    """
+
+    name: CurriculumName = "dr"
+    score_levels: int = 12_288
+    score_batch: int = 4_096
+    score_steps: int = 512
+    buffer_size: int = 1_024
+    refresh_every: int = 128
+    buffer_share: float = 0.5
+
+    def __post_init__(self):
+        _check_types(self)
+        _within(self, "score_levels", 1, 2**24)
+        _within(self, "score_batch", 1, 2**24)
+        _within(self, "score_steps", 1, 10**5)
+        _within(self, "buffer_size", 1, 2**24)
+        _within(self, "refresh_every", 1, INT32_MAX)
+        _within(self, "buffer_share", 0.0, 1.0, low_excluded=True)
+        _require(self, "score_batch", self.score_levels % self.score_batch == 0, "must divide curriculum.score_levels")
+        _require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
+
+    @property
+    def scoring_steps(self) -> int:
+        """Environment steps of one refresh: score_levels x score_steps (0 for 'dr')."""
+        return self.score_levels * self.score_steps if self.name == "sfl" else 0
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class ExperimentConfig:
     """A whole experiment: one field per YAML section.
 
@@ -272,6 +321,7 @@ class ExperimentConfig:
         ppo: the PPO hyperparameters and budget (`PPOSettings`).
         run: seed, checkpoints, evaluation and logging (`RunSettings`).
         levels: the training levels (`LevelSettings`).
+        curriculum: which of them episodes start from (`CurriculumSettings`).
     """
 
     env: EnvSettings = dataclasses.field(default_factory=EnvSettings)
@@ -279,9 +329,15 @@ class ExperimentConfig:
     ppo: PPOSettings
     run: RunSettings = dataclasses.field(default_factory=RunSettings)
     levels: LevelSettings = dataclasses.field(default_factory=LevelSettings)
+    curriculum: CurriculumSettings = dataclasses.field(default_factory=CurriculumSettings)
 
     def __post_init__(self):
         _check_types(self)
+        if self.curriculum.name == "sfl" and round(self.curriculum.buffer_share * self.ppo.num_envs) == 0:
+            raise ConfigError(
+                f"curriculum.buffer_share: {self.curriculum.buffer_share:g} of ppo.num_envs {self.ppo.num_envs} "
+                "is no environment; raise either"
+            )
         allowed = MODEL_OBSERVATIONS[self.model.name]
         if self.env.observation not in allowed:
             raise ConfigError(
@@ -296,6 +352,7 @@ SECTIONS: dict[str, type] = {
     "ppo": PPOSettings,
     "run": RunSettings,
     "levels": LevelSettings,
+    "curriculum": CurriculumSettings,
 }
 _SECTION_OF = {cls: name for name, cls in SECTIONS.items()}
 

@@ -76,6 +76,10 @@ BAD_SETTINGS = [
     ("model.heads=6", "model.heads: must be a multiple of 4"),
     ("ppo.max_grad_norm=0", "ppo.max_grad_norm: must be > 0"),
     ("env.observation=pixels", "model.name: 'pi-mlp' needs env.observation 'symbolic-entity', got 'pixels'"),
+    ("curriculum.score_batch=5000", "curriculum.score_batch: must divide curriculum.score_levels"),
+    ("curriculum.buffer_size=20000", "curriculum.buffer_size: must be <= curriculum.score_levels"),
+    ("curriculum.buffer_share=0", "curriculum.buffer_share: must be > 0 and <= 1"),
+    ("curriculum.name=sfl", None),  # with buffer_share 0.001 below: no environment starts from the buffer
 ]
 
 
@@ -84,6 +88,9 @@ def test_config_values_out_of_range_are_one_line(capsys, tmp_path, setting, mess
     args = ["pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "run", "--set", setting]
     if setting == "model.heads=6":
         args += ["--set", "model.name=transformer", "--set", "model.width=120"]
+    if message is None:
+        args += ["--set", "curriculum.buffer_share=0.001"]
+        message = "curriculum.buffer_share: 0.001 of ppo.num_envs 64 is no environment"
     line = kinetix(capsys, *args).error_line
     assert message in line and not (tmp_path / "run").exists()
 

@@ -97,6 +97,11 @@ def draw_level(levels: Level, key: jax.Array) -> Level:
     return index_level(levels, jax.random.randint(key, (), 0, level_count(levels)))
 
 
+def draw_levels(levels: Level, key: jax.Array, count: int) -> Level:
+    """`count` levels drawn uniformly (with replacement) from a batch `levels`, one key each; jittable."""
+    return jax.vmap(draw_level, in_axes=(None, 0))(levels, jax.random.split(key, count))
+
+
 def to_device(level: Level) -> Level:
     """Turn numpy leaves into device arrays."""
     return jax.tree.map(jnp.asarray, level)

@@ -1,5 +1,5 @@
-"""The training levels of a run, as one batch on the device: level files, a level set, or levels generated at
-the start of the run (`levels.source` in the experiment config)."""
+"""The training levels of a run (`levels.source` in the experiment config): a pool on the device (level files, a
+level set, or levels generated at the start of the run), or fresh levels sampled inside every training update."""
 
 from __future__ import annotations
 
@@ -11,14 +11,24 @@ from kinetix_cli.config import ExperimentConfig
 from kinetix_cli.env.level import Level, level_count, stack_levels, to_device
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.filters import generate_chunk, make_config
+from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.levelset import load_levelset
 
 
-def level_pool(config: ExperimentConfig) -> Level:
+def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
+    """The in-graph sampler of source 'fresh', else None."""
+    if config.levels.source != "fresh":
+        return None
+    return FreshLevels.for_size(SIZES[config.env.size], config.env.size)
+
+
+def level_pool(config: ExperimentConfig) -> Level | None:
     """The training levels as one batch of device arrays: level files (each with its own engine constants), a
-    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`)."""
+    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`); None for source 'fresh'."""
     settings, size = config.levels, config.env.size
+    if settings.source == "fresh":
+        return None
     if settings.source == "files":
         return stack_levels([load_level(path).build(SIZES[size]) for path in settings.files])
     if settings.source == "levelset":

@@ -6,8 +6,13 @@ outside the jit). The environment, the network and the `PPOSettings` section are
 hashable by value), so every call with equal settings shares one compile; the level pool is an argument, so a new
 pool of the same shape does not recompile either.
 
-Episodes that end restart from a level drawn uniformly from `levels` by the environment's own auto-reset
-(`KinetixEnv.step`). Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
+Episodes that end restart from a level drawn uniformly from the update's pool by the environment's own auto-reset
+(`KinetixEnv.step`). The pool is `levels` (a fixed pool on the device: generated at the start, a level set, level
+files) or, with the static `fresh` source (and `levels` None), a batch of `num_envs` new levels sampled at the
+start of every update inside the jit (`kinetix_cli.generator.fresh`). A curriculum (`rl.curricula`) puts a share
+of its buffer's levels into every update's pool.
+
+Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
 transition bootstraps from the value of the final observation (`info["final_observation"]`, before the reset),
 so the cap does not look like a failure to the critic. Every transition stores `next_value` = V(observation after
 the step, before any reset); the GAE recursion stops at every episode boundary, and only true terminations (green
@@ -27,7 +32,9 @@ from flax import struct
 
 from kinetix_cli.config import PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
-from kinetix_cli.env.level import Level, draw_level
+from kinetix_cli.env.level import Level, draw_levels
+from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.rl.curricula.buffer import LevelBuffer, draw_from_buffer, empty_buffer
 
 
 @struct.dataclass
@@ -57,6 +64,7 @@ class Runner:
         episode_return: (num_envs,) return of the running episodes.
         key: PRNG key.
         update: () int32 updates done.
+        buffer: the curriculum's level buffer (`rl.curricula.buffer.LevelBuffer`), or None (DR).
     """
 
     params: Any
@@ -66,6 +74,7 @@ class Runner:
     episode_return: jax.Array
     key: jax.Array
     update: jax.Array
+    buffer: LevelBuffer | None = None
 
 
 def make_optimizer(settings: PPOSettings) -> optax.GradientTransformation:
@@ -111,17 +120,56 @@ def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings:
     return total, {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
 
 
-def reset_levels(levels: Level, key: jax.Array, count: int) -> Level:
-    """`count` levels drawn uniformly from the pool `levels`, one key each (the training level source)."""
-    return jax.vmap(draw_level, in_axes=(None, 0))(levels, jax.random.split(key, count))
+def update_levels(
+    runner: Runner, env: KinetixEnv, levels: Level | None, fresh: FreshLevels | None, buffer_share: float, count: int
+) -> tuple[Runner, Level]:
+    """The levels this update's episodes restart from, and the runner with its key advanced.
+
+    From the source: the pool `levels` as it is, or `count` fresh levels from `fresh`. With `buffer_share` > 0 (a
+    curriculum), round(buffer_share * count) levels drawn from the runner's buffer and the rest from the source,
+    `count` in all. Before the first update with a fresh source, every environment is also reset to one of them
+    (`init_runner` started them on an empty arena)."""
+    from_buffer = round(buffer_share * count)
+    if fresh is None and not from_buffer:
+        return runner, levels  # a fixed pool, uniformly: the key stream of runs before curricula, unchanged
+    key, k_source, k_buffer, k_first = jax.random.split(runner.key, 4)
+    if fresh is not None:
+        pool = fresh(k_source, count - from_buffer)
+    else:
+        pool = draw_levels(levels, k_source, count - from_buffer)
+    if from_buffer:
+        buffered = draw_from_buffer(runner.buffer, k_buffer, from_buffer)
+        pool = jax.tree.map(lambda a, b: jnp.concatenate([a, b]), buffered, pool)
+    runner = runner.replace(key=key)
+    if fresh is not None:
+        obs, env_state = jax.vmap(env.reset_to_level)(draw_levels(pool, k_first, count))
+        first = runner.update == 0
+        runner = runner.replace(
+            obs=jax.tree.map(lambda a, b: jnp.where(first, a, b), obs, runner.obs),
+            env_state=jax.tree.map(lambda a, b: jnp.where(first, a, b), env_state, runner.env_state),
+        )
+    return runner, pool
 
 
-@functools.partial(jax.jit, static_argnums=(0, 1, 2))
-def init_runner(env: KinetixEnv, network: nn.Module, settings: PPOSettings, levels: Level, key: jax.Array) -> Runner:
-    """Fresh parameters, optimiser state and `settings.num_envs` environments reset to pool levels. Jitted (one
-    compile per settings): run op by op, the reset and the network init cost hundreds of small compiles."""
+@functools.partial(jax.jit, static_argnums=(0, 1, 2), static_argnames=("fresh", "buffer_size"))
+def init_runner(
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+    levels: Level | None,
+    key: jax.Array,
+    fresh: FreshLevels | None = None,
+    buffer_size: int = 0,
+) -> Runner:
+    """Fresh parameters, optimiser state and `settings.num_envs` environments reset to pool levels, and an empty
+    level buffer of `buffer_size` slots (0: none). With a `fresh` source (and no pool) the environments start on
+    an empty arena and the first update resets them to its own fresh levels, so the sampler is compiled once, in
+    `ppo_update`. Jitted (one compile per settings): run op by op, the reset and the network init cost hundreds
+    of small compiles."""
+    if fresh is not None:
+        levels = fresh.placeholder()
     k_params, k_reset, key = jax.random.split(key, 3)
-    obs, env_state = jax.vmap(env.reset_to_level)(reset_levels(levels, k_reset, settings.num_envs))
+    obs, env_state = jax.vmap(env.reset_to_level)(draw_levels(levels, k_reset, settings.num_envs))
     params = network.init(k_params, obs)
     return Runner(
         params=params,
@@ -131,23 +179,30 @@ def init_runner(env: KinetixEnv, network: nn.Module, settings: PPOSettings, leve
         episode_return=jnp.zeros(settings.num_envs, jnp.float32),
         key=key,
         update=jnp.zeros((), jnp.int32),
+        buffer=empty_buffer(levels, buffer_size) if buffer_size else None,
     )
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings"))
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "buffer_share"))
 def ppo_update(
     runner: Runner,
     env_params: EnvParams,
-    levels: Level,
+    levels: Level | None,
     *,
     env: KinetixEnv,
     network: nn.Module,
     settings: PPOSettings,
+    fresh: FreshLevels | None = None,
+    buffer_share: float = 0.0,
 ) -> tuple[Runner, dict]:
     """One PPO update: collect `num_steps` steps in every env, GAE, then `update_epochs` passes of
-    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars)."""
+    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars).
+
+    Episodes restart from `levels` (or from fresh levels sampled for this update, with `fresh`), and a
+    `buffer_share` of them from the runner's level buffer (`update_levels`)."""
     optimizer = make_optimizer(settings)
     batch_size = settings.batch_size
+    runner, levels = update_levels(runner, env, levels, fresh, buffer_share, settings.num_envs)
 
     def env_step(runner: Runner, _):
         # --- act
@@ -156,9 +211,9 @@ def ppo_update(
         action = dist.sample(k_act)
         log_prob = dist.log_prob(action)
         # --- step; ended episodes restart from pool levels
-        fresh = reset_levels(levels, k_reset, settings.num_envs)
+        restart = draw_levels(levels, k_reset, settings.num_envs)
         step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
-        obs, env_state, reward, terminated, truncated, info = step(runner.env_state, action, env_params, fresh)
+        obs, env_state, reward, terminated, truncated, info = step(runner.env_state, action, env_params, restart)
         _, next_value = network.apply(runner.params, info["final_observation"])
         done = terminated | truncated
         transition = Transition(

@@ -5,7 +5,8 @@ A run directory holds:
 - `config.yaml`: the resolved experiment config (`kinetix-experiment/1`);
 - `versions.json`: library versions and machine;
 - `metrics.jsonl`: one JSON object per update (update, env steps, SPS, return, solve rate, losses; every
-  `run.eval_every` updates also `eval_solve_rate` and `eval_return` on `run.eval_levels`);
+  `run.eval_every` updates also `eval_solve_rate` and `eval_return` on `run.eval_levels`; with a curriculum the
+  buffer's size, mean score and solve-rate percentiles, and the steps spent scoring levels);
 - `checkpoints/<update>/`: orbax checkpoints of the whole training state (`kinetix_cli.rl.checkpoints`), every
   `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one and, because the
   whole state is saved, reaches the same parameters as an uninterrupted run.
@@ -26,7 +27,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, config_to_dict, load_config, save_config
+from kinetix_cli.config import (
+    CONFIG_FILENAME,
+    CurriculumSettings,
+    ExperimentConfig,
+    config_to_dict,
+    load_config,
+    save_config,
+)
 from kinetix_cli.constants import VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level
@@ -35,9 +43,11 @@ from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_di
 from kinetix_cli.levels.files import level_paths, load_level
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, load_policy, restore_runner, save_runner
+from kinetix_cli.rl.curricula.buffer import buffer_metrics
+from kinetix_cli.rl.curricula.sfl import refresh_buffer
 from kinetix_cli.rl.evaluate import Evaluator
 from kinetix_cli.rl.networks import make_network
-from kinetix_cli.rl.pool import level_pool
+from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
 
 METRICS_FILE = "metrics.jsonl"
@@ -62,7 +72,7 @@ def train(
         run_dir: the run's folder (new or empty, or the run to resume).
         resume: continue from the latest checkpoint.
         progress: called with each update's metrics record.
-        pool: the training levels (default: `level_pool(config)`).
+        pool: the training levels (default: `level_pool(config)`; None with source 'fresh').
         init_params: initial network parameters (fine-tuning); default: those of the checkpoint named by
             `run.init_from`, else freshly initialised.
     """
@@ -76,11 +86,17 @@ def train(
     # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
     evaluator = _evaluator(config)
     pool = level_pool(config) if pool is None else pool
+    fresh = fresh_source(config)
     env, env_params = make_env(config.env)
     network = make_network(config.model, config.env)
-    settings = config.ppo
-    update = functools.partial(ppo_update, env=env, network=network, settings=settings)
-    runner = init_runner(env, network, settings, pool, jax.random.key(config.run.seed))
+    settings, curriculum = config.ppo, config.curriculum
+    sfl = curriculum.name == "sfl"
+    update = functools.partial(
+        ppo_update, env=env, network=network, settings=settings, fresh=fresh, buffer_share=curriculum.buffer_share * sfl
+    )
+    refresh = functools.partial(refresh_buffer, env=env, network=network, fresh=fresh, curriculum=curriculum)
+    key = jax.random.key(config.run.seed)
+    runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=curriculum.buffer_size * sfl)
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
@@ -105,11 +121,15 @@ def train(
     with log, manager:
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
+            if sfl and u % curriculum.refresh_every == 0:  # the curriculum's buffer, scored with the current policy
+                runner = runner.replace(buffer=refresh(runner.params, env_params, pool, _scoring_key(key, u)))
             runner, metrics = update(runner, env_params, pool)
             metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
+            if sfl:
+                record |= _curriculum_metrics(runner, curriculum, u, steps)
             if not all(math.isfinite(v) for v in metrics.values()):
                 bad = sorted(k for k, v in metrics.items() if not math.isfinite(v))
                 raise UserError(
@@ -163,6 +183,20 @@ def _with_params(runner: Runner, params, settings) -> Runner:
         raise UserError("--from: the checkpoint's network does not match this run's model settings")
     params = jax.tree.map(jnp.asarray, params)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
+
+
+def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
+    """The key of the curriculum refresh before `update`: a stream of its own, a function of the update only,
+    so a resumed run scores exactly as an uninterrupted one."""
+    return jax.random.fold_in(jax.random.fold_in(run_key, 1), update)
+
+
+def _curriculum_metrics(runner: Runner, curriculum: CurriculumSettings, update: int, steps: int) -> dict:
+    """The buffer's size, mean score and solve-rate distribution, and the environment steps spent scoring
+    levels so far (`scoring_steps`) and their share of all environment steps (`scoring_share`)."""
+    scoring = (update // curriculum.refresh_every + 1) * curriculum.scoring_steps
+    buffer = {k: float(v) for k, v in jax.device_get(buffer_metrics(runner.buffer)).items()}
+    return buffer | {"scoring_steps": scoring, "scoring_share": scoring / (scoring + steps)}
 
 
 def _evaluator(config: ExperimentConfig) -> Evaluator | None:

@@ -130,3 +130,20 @@ def test_finetune_config_keeps_the_agents_interface_unless_set():
     assert mine.env.frame_skip == 3
     with pytest.raises(UserError, match="sizes m, s"):
         finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL, "levels/m/arm-sweep-ball.json"], pretrained)
+
+
+@pytest.mark.slow
+def test_fresh_levels_train_and_resume_bit_identically(tmp_path):
+    """Source 'fresh': every update samples new levels in the jit; a resumed run still ends bit-identical."""
+    config = tiny_config("levels.source=fresh", "levels.files=[]", "ppo.total_timesteps=192", "run.eval_every=0")
+
+    def crash_after_2(record):
+        if record["update"] == 2:
+            raise Crash
+
+    whole = train(config, tmp_path / "whole")
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", progress=crash_after_2)
+    resumed = train(config, tmp_path / "cut", resume=True)
+    jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
+    assert metrics(tmp_path / "cut")[-1]["return"] == metrics(tmp_path / "whole")[-1]["return"]

@@ -1,0 +1,59 @@
+"""Levels on the fly: a batch of fresh random levels sampled inside a jitted computation (the training step).
+
+The reference samples a whole new level for every environment at every step and keeps it where an episode ended,
+which makes its environment ~25x slower than its engine. Here a training update draws one batch of `count` fresh
+levels at its start, and the episodes that end during the update restart from levels drawn out of that batch:
+every update trains on levels no earlier update has seen, at the cost of one vmapped sampler call per update.
+
+Only the in-graph filter that costs next to nothing is applied: `is_valid` (green and blue present, a working
+actuator, no deep overlap). `OVERSAMPLE` times `count` candidates are drawn and the valid ones come first. The
+episode filters of `kinetix generate` (no-op and random play) cost whole rollouts and are left to level sets.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import jax
+import jax.numpy as jnp
+
+from engine import Static
+from kinetix_cli.env.level import Level, index_level
+from kinetix_cli.generator.sampler import SamplerConfig, default_config, empty_level, is_valid, sample_level
+
+OVERSAMPLE = 2
+"""Candidates drawn per fresh level: the valid ones are kept first (measured: ~95% of raw s levels are valid, so an
+invalid level is kept only when fewer than half of the candidates are valid)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class FreshLevels:
+    """A static (hashable) description of a fresh-level source: the size and the sampler's distribution.
+
+    Call it inside a jitted function: `FreshLevels(static, sampler)(key, count)` -> `count` levels, batched."""
+
+    static: Static
+    sampler: SamplerConfig
+
+    @classmethod
+    def for_size(cls, static: Static, size: str) -> FreshLevels:
+        """The reference distribution of `size` (nothing fixed at size s)."""
+        return cls(static, default_config(size))
+
+    def __call__(self, key: jax.Array, count: int) -> Level:
+        return fresh_levels(self.static, self.sampler, key, count)
+
+    def placeholder(self) -> Level:
+        """A batch of one empty arena: a stand-in with the shapes of real levels, for what must exist before the
+        first batch is sampled (initial environment states, network initialisation)."""
+        return jax.tree.map(lambda x: jnp.asarray(x)[None], empty_level(self.static))
+
+
+def fresh_levels(static: Static, sampler: SamplerConfig, key: jax.Array, count: int) -> Level:
+    """`count` random levels (batched on the leading axis), valid ones first among `OVERSAMPLE * count`
+    candidates, in the order they were sampled. Pure and jittable; the same key gives the same levels."""
+    candidates = jax.vmap(functools.partial(sample_level, static, sampler))(jax.random.split(key, OVERSAMPLE * count))
+    valid = jax.vmap(functools.partial(is_valid, static))(candidates)
+    order = jnp.argsort(jnp.logical_not(valid).astype(jnp.int32), stable=True)[:count]
+    return index_level(candidates, order)

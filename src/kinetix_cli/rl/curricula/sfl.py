@@ -1,0 +1,70 @@
+"""SFL, sampling for learnability (Rutherford et al., 2024; the Kinetix paper's best general agents).
+
+Every `curriculum.refresh_every` updates, `score_levels` candidate levels are drawn from the level source (fresh
+random levels, or the pool) and the current policy plays each for `score_steps` environment steps, restarting
+the same level whenever an episode ends. A level's solve rate p is its solved episodes over its ended episodes
+(0 when none ended); its learnability is p (1 - p): highest for levels solved half of the time, zero for levels
+always or never solved. The `buffer_size` most learnable levels replace the buffer, and `rl.ppo.ppo_update`
+starts `buffer_share` of each update's episodes from them.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import flax.linen as nn
+import jax
+import jax.numpy as jnp
+
+from kinetix_cli.config import CurriculumSettings
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Level, draw_levels
+from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.rl.curricula.buffer import LevelBuffer, top_levels
+
+
+def solve_rates(
+    params, env_params: EnvParams, levels: Level, key: jax.Array, *, env: KinetixEnv, network: nn.Module, steps: int
+) -> jax.Array:
+    """(batch,) float32 solve rate of the sampling policy on each of a batch of levels, each played for `steps`
+    environment steps with every ended episode restarted on the same level."""
+    obs, state = jax.vmap(env.reset_to_level)(levels)
+    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
+
+    def play(carry, key):
+        obs, state, ended, solved = carry
+        action = network.apply(params, obs)[0].sample(key)
+        obs, state, _, terminated, truncated, info = step(state, action, env_params, levels)
+        return (obs, state, ended + (terminated | truncated), solved + info["solved"]), None
+
+    zeros = jnp.zeros(jax.tree.leaves(levels)[0].shape[0], jnp.float32)
+    (_, _, ended, solved), _ = jax.lax.scan(play, (obs, state, zeros, zeros), jax.random.split(key, steps))
+    return solved / jnp.maximum(ended, 1.0)
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "fresh", "curriculum"))
+def refresh_buffer(
+    params,
+    env_params: EnvParams,
+    pool: Level | None,
+    key: jax.Array,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    fresh: FreshLevels | None,
+    curriculum: CurriculumSettings,
+) -> LevelBuffer:
+    """Score `curriculum.score_levels` candidates (fresh levels, or draws from `pool`) in batches of
+    `score_batch` and return the `buffer_size` most learnable as the new buffer."""
+    batch = curriculum.score_batch
+
+    def score_batch(key):
+        k_levels, k_play = jax.random.split(key)
+        levels = fresh(k_levels, batch) if fresh is not None else draw_levels(pool, k_levels, batch)
+        rates = solve_rates(params, env_params, levels, k_play, env=env, network=network, steps=curriculum.score_steps)
+        return levels, rates
+
+    keys = jax.random.split(key, curriculum.score_levels // batch)
+    levels, rates = jax.lax.map(score_batch, keys)
+    levels, rates = jax.tree.map(lambda x: x.reshape((-1, *x.shape[2:])), (levels, rates))
+    return top_levels(levels, rates * (1.0 - rates), rates, curriculum.buffer_size)
