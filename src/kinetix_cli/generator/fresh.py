@@ -23,8 +23,9 @@ from kinetix_cli.env.level import Level, index_level
 from kinetix_cli.generator.sampler import SamplerConfig, default_config, empty_level, is_valid, sample_level
 
 OVERSAMPLE = 2
-"""Candidates drawn per fresh level: the valid ones are kept first (measured: ~95% of raw s levels are valid, so an
-invalid level is kept only when fewer than half of the candidates are valid)."""
+"""Candidates drawn per fresh level: the valid ones are kept first, so an invalid level is kept only when fewer than
+1 in OVERSAMPLE candidates is valid. (Measured at size s: `kinetix generate --size s --count 1024 --seed 0` found
+0 invalid among 2,048 sampled levels, so at s this doubles the sampling for nothing; m and l are not measured yet.)"""
 
 
 @dataclasses.dataclass(frozen=True)
