@@ -288,12 +288,14 @@ def levels_info(
 
 @levels_app.command("show")
 def levels_show(
-    path: Path = typer.Argument(..., help="Level-set folder."),
-    index: int = typer.Option(0, help="The level to draw (with --grid: the first one)."),
+    path: Path = typer.Argument(..., help="Level-set folder, or a run directory with --buffer."),
+    index: int = typer.Option(0, min=0, help="The level to draw (with --grid: the first one)."),
     grid: int = typer.Option(0, min=0, max=1024, help="Draw this many levels from --index on as a contact sheet."),
+    buffer: bool = typer.Option(False, "--buffer", help="Draw a training run's curriculum buffer, best first."),
     out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
 ) -> None:
-    """Render one level of a set, or a contact sheet of several."""
+    """Render one level of a set, or a contact sheet of several; with --buffer, the levels of a run's curriculum
+    buffer (latest checkpoint), most learnable first, each with its solve rate when it was scored."""
     check_output_file(out, "-o")
     import math
 
@@ -301,6 +303,12 @@ def levels_show(
     from kinetix_cli.viz.contact_sheet import contact_sheet
     from kinetix_cli.viz.render import render_level, save_png
 
+    if buffer:
+        levels = _buffer_levels(path, index, max(grid, 1))
+        image = contact_sheet(levels, columns=math.ceil(math.sqrt(len(levels))))
+        save_png(image, out)
+        say(f"wrote {out} ({len(levels)} buffer levels)")
+        return
     levelset = load_levelset(path)
     if grid:
         last = min(index + grid, levelset.manifest["count"])
@@ -310,6 +318,28 @@ def levels_show(
         image = render_level(level_at(levelset, index), title=f"{path.name} level {index}")
     save_png(image, out)
     console.print(f"wrote {out}")
+
+
+def _buffer_levels(run: Path, first: int, count: int) -> list:
+    """(level, caption) of buffer levels first .. first + count - 1 of a run's latest checkpoint."""
+    from engine import SIZES
+    from kinetix_cli.config import CONFIG_FILENAME, load_config
+    from kinetix_cli.env.level import index_level
+    from kinetix_cli.generator.fresh import FreshLevels
+    from kinetix_cli.rl.checkpoints import load_buffer
+
+    config_file = run / CONFIG_FILENAME
+    if not config_file.is_file():
+        raise UserError(f"{run}: not a run directory (no {CONFIG_FILENAME}); --buffer draws a training run's buffer")
+    size = load_config(config_file).env.size
+    buffer, update = load_buffer(run, FreshLevels.for_size(SIZES[size], size).placeholder())
+    filled = int(buffer.size)
+    if not 0 <= first < filled:
+        raise UserError(f"--index: {first} is out of range; the buffer holds levels 0..{filled - 1}")
+    return [
+        (index_level(buffer.levels, i), f"#{i} p={buffer.solve_rate[i]:.2f} (update {update})")
+        for i in range(first, min(first + count, filled))
+    ]
 
 
 @levels_app.command("sheet")

@@ -21,10 +21,13 @@ from pathlib import Path
 import jax
 import numpy as np
 import orbax.checkpoint as ocp
+from flax import serialization
 
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, load_config
+from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, read_format
+from kinetix_cli.rl.curricula.buffer import LevelBuffer
 from kinetix_cli.rl.networks import params_fit
 from kinetix_cli.rl.ppo import Runner
 
@@ -123,12 +126,9 @@ def restore_runner(manager: ocp.CheckpointManager, update: int, like: Runner) ->
     return restored.replace(key=jax.random.wrap_key_data(restored.key))
 
 
-def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
-    """(config, params, update) from a run directory (latest checkpoint) or one checkpoint folder
-    `RUN/checkpoints/<update>`, verified against the checkpoint's checksums. The parameters come as host numpy
-    arrays, so jitted functions see them exactly as freshly initialised ones (device arrays committed by orbax
-    would be a new signature, and a recompile)."""
-    path = Path(path)
+def _latest(path: Path) -> tuple[Path, ExperimentConfig, int | None]:
+    """(run directory, its config, the checkpoint named by `path` or None for the latest) of a run directory or
+    of one checkpoint folder `RUN/checkpoints/<update>`."""
     run_dir, step = path, None
     if path.parent.name == CHECKPOINTS and path.name.isdigit():
         run_dir, step = path.parent.parent, int(path.name)
@@ -138,6 +138,13 @@ def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
     config = load_config(config_file)
     if not (run_dir / CHECKPOINTS).is_dir():
         raise UserError(f"{path}: no checkpoint in {run_dir / CHECKPOINTS} (the run wrote none yet)")
+    return run_dir, config, step
+
+
+def _restore_raw(path: Path) -> tuple[ExperimentConfig, dict, Path]:
+    """(config, the whole checkpoint as nested dicts of host arrays, its folder) of a run or checkpoint folder,
+    verified against its checksums."""
+    run_dir, config, step = _latest(path)
     with checkpoint_manager(run_dir, read_only=True) as manager:
         step = manager.latest_step() if step is None else step
         if step is None or step not in manager.all_steps():
@@ -145,9 +152,31 @@ def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
         where = run_dir / CHECKPOINTS / str(step)
         verify_checkpoint(where)
         try:
-            params = jax.tree.map(np.asarray, manager.restore(step, args=ocp.args.StandardRestore())["params"])
+            raw = jax.tree.map(np.asarray, manager.restore(step, args=ocp.args.StandardRestore()))
         except Exception as exc:  # an unverified (old) checkpoint that orbax cannot read
             raise UserError(f"{where}: cannot read the checkpoint ({type(exc).__name__})") from None
+    return config, raw, where
+
+
+def load_buffer(path: str | Path, placeholder: Level) -> tuple[LevelBuffer, int]:
+    """(the curriculum's level buffer, update) of a run's latest checkpoint (or of one checkpoint folder), as host
+    arrays; `placeholder` is any batch of levels of the run's size (its structure is filled with the saved
+    arrays). A run without a curriculum buffer is a `UserError`."""
+    config, raw, where = _restore_raw(Path(path))
+    if raw.get("buffer") is None:
+        raise UserError(f"{where}: holds no level buffer (the run's curriculum.name is {config.curriculum.name!r})")
+    template = LevelBuffer(levels=placeholder, score=None, solve_rate=None, size=None)
+    return serialization.from_state_dict(template, raw["buffer"]), int(where.name)
+
+
+def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
+    """(config, params, update) from a run directory (latest checkpoint) or one checkpoint folder
+    `RUN/checkpoints/<update>`, verified against the checkpoint's checksums. The parameters come as host numpy
+    arrays, so jitted functions see them exactly as freshly initialised ones (device arrays committed by orbax
+    would be a new signature, and a recompile)."""
+    config, raw, where = _restore_raw(Path(path))
+    params = raw["params"]
     if not params_fit(config, params):
+        config_file = where.parent.parent / CONFIG_FILENAME
         raise UserError(f"{where}: its parameters do not fit the model in {config_file} (another model's checkpoint?)")
-    return config, params, int(step)
+    return config, params, int(where.name)

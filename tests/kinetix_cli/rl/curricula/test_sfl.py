@@ -9,6 +9,7 @@ import jax
 import numpy as np
 import pytest
 
+from helpers.cli import kinetix
 from helpers.runs import tiny_config
 from kinetix_cli.rl.train import train
 
@@ -32,7 +33,7 @@ def lines(run_dir):
     return [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in (run_dir / "metrics.jsonl").open()]
 
 
-def test_an_sfl_run_logs_its_buffer_and_resumes_bit_identically(tmp_path, tiny_pool):
+def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys, tmp_path, tiny_pool):
     config = tiny_config(*SFL)
     whole = train(config, tmp_path / "whole", pool=tiny_pool)
     records = lines(tmp_path / "whole")
@@ -54,3 +55,12 @@ def test_an_sfl_run_logs_its_buffer_and_resumes_bit_identically(tmp_path, tiny_p
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, whole.buffer, resumed.buffer)
     assert lines(tmp_path / "cut") == records
+
+    sheet = tmp_path / "buffer.png"
+    result = kinetix(capsys, "levels", "show", tmp_path / "whole", "--buffer", "--grid", "4", "-o", sheet)
+    assert result.code == 0 and "4 buffer levels" in result.out and sheet.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_run_without_a_buffer_says_so(capsys, tmp_path, tiny_run):
+    line = kinetix(capsys, "levels", "show", tiny_run, "--buffer", "-o", tmp_path / "x.png").error_line
+    assert "holds no level buffer (the run's curriculum.name is 'dr')" in line
