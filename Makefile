@@ -68,7 +68,7 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests
 
 test: lint reference-levels $(CMP_STAMP)
-	$(BIN)/pytest -m "not slow" $(PYTEST_FLAGS)
+	$(BIN)/pytest -m "not slow" --durations=15 $(PYTEST_FLAGS)
 
 test-all: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)

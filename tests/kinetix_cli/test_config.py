@@ -11,6 +11,7 @@ from kinetix_cli.config import (
     CONFIG_FORMAT,
     SECTIONS,
     ConfigError,
+    CurriculumSettings,
     EnvSettings,
     ExperimentConfig,
     LevelSettings,
@@ -68,8 +69,9 @@ def test_the_expected_experiment_files_exist_with_reference_settings():
         assert (config.model.name, config.env.observation, config.levels.source) == (
             "transformer",
             "symbolic-entity",
-            "generated",
+            "fresh",
         )
+        assert config.curriculum == CurriculumSettings(name="sfl")  # the defaults are the reference's SFL
         assert config.model == ModelSettings()
         assert dataclasses.replace(config.ppo, total_timesteps=budget) == reference
     finetune = load_config(EXPERIMENTS / "finetune.yaml", [])

@@ -30,7 +30,8 @@ def batch(size: str):
     return jax.device_get(sampler(size)(keys))
 
 
-SIZES_UNDER_TEST = ["s", "m", pytest.param("l", marks=pytest.mark.slow)]
+SIZES_UNDER_TEST = ["s", pytest.param("m", marks=pytest.mark.slow), pytest.param("l", marks=pytest.mark.slow)]
+"""Size s in `make test` (each size's sampler takes 30-40 s to compile here); m and l in `make test-all`."""
 
 
 @pytest.mark.parametrize("size", SIZES_UNDER_TEST)
@@ -85,9 +86,10 @@ def test_sampling_is_pure_and_compiles_once():
     assert not np.array_equal(a.physics.bodies.position, b.physics.bodies.position)
 
 
-def test_generated_scenes_simulate_without_nan():
-    static = SIZES["m"]
-    levels = batch("m")
+@pytest.mark.parametrize("size", SIZES_UNDER_TEST)
+def test_generated_scenes_simulate_without_nan(size):
+    static = SIZES[size]
+    levels = batch(size)
     step = jax.jit(jax.vmap(functools.partial(engine.step, static, Params())))
     physics = levels.physics
     actions = jnp.ones((BATCH, static.num_joints + static.num_thrusters))
