@@ -132,10 +132,18 @@ def test_finetune_config_keeps_the_agents_interface_unless_set():
         finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL, "levels/m/arm-sweep-ball.json"], pretrained)
 
 
+SFL_ON_FRESH = ["curriculum.name=sfl", "curriculum.score_levels=8", "curriculum.score_batch=8"]
+SFL_ON_FRESH += ["curriculum.score_steps=8", "curriculum.buffer_size=4", "curriculum.refresh_every=2"]
+
+
 @pytest.mark.slow
-def test_fresh_levels_train_and_resume_bit_identically(tmp_path):
-    """Source 'fresh': every update samples new levels in the jit; a resumed run still ends bit-identical."""
-    config = tiny_config("levels.source=fresh", "levels.files=[]", "ppo.total_timesteps=192", "run.eval_every=0")
+@pytest.mark.parametrize("curriculum", [[], SFL_ON_FRESH], ids=["dr", "sfl"])
+def test_fresh_levels_train_and_resume_bit_identically(tmp_path, curriculum):
+    """Source 'fresh': every update samples new levels in the jit (with SFL: its candidates too, and half of each
+    update's levels come from the buffer); a resumed run still ends bit-identical."""
+    config = tiny_config(
+        "levels.source=fresh", "levels.files=[]", "ppo.total_timesteps=192", "run.eval_every=0", *curriculum
+    )
 
     def crash_after_2(record):
         if record["update"] == 2:
