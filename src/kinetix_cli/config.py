@@ -273,13 +273,17 @@ class CurriculumSettings:
     Attributes:
         name: 'dr' (domain randomisation: uniformly from the level source; the baseline) or 'sfl' (sampling for
             learnability: every `refresh_every` updates the current policy plays `score_levels` levels drawn from
-            the source for `score_steps` steps each, restarting the same level whenever an episode ends; a level's
-            learnability is p (1 - p) with p its solve rate, and the `buffer_size` most learnable levels form the
+            the source, `score_attempts` copies of each for `score_steps` steps, restarting the same level whenever
+            an episode ends; a level's learnability is p (1 - p) with p its solve rate over all the episodes that
+            ended, and the `buffer_size` most learnable levels form the
             buffer; each update then restarts a `buffer_share` of its episodes from buffer levels and the rest
             from the source). The knobs below are used by 'sfl' only.
         score_levels: levels scored per refresh (reference 12,288 = 3 x 4,096).
         score_batch: levels played at once while scoring (bounds memory; divides `score_levels`).
-        score_steps: environment steps each scored level is played for [steps] (reference 512).
+        score_steps: environment steps each copy of a scored level is played for [steps] (reference 512).
+        score_attempts: copies of each scored level played side by side (reference 1: its 512 steps hold two or
+            more episodes of at most 256 steps); with `score_steps` equal to `env.max_steps`, at least this many
+            episodes decide p.
         buffer_size: most learnable levels kept (reference 1,024).
         refresh_every: updates between refreshes of the buffer [updates] (reference 128); the first is before
             the first update.
@@ -290,6 +294,7 @@ class CurriculumSettings:
     score_levels: int = 12_288
     score_batch: int = 4_096
     score_steps: int = 512
+    score_attempts: int = 1
     buffer_size: int = 1_024
     refresh_every: int = 128
     buffer_share: float = 0.5
@@ -299,6 +304,7 @@ class CurriculumSettings:
         _within(self, "score_levels", 1, 2**24)
         _within(self, "score_batch", 1, 2**24)
         _within(self, "score_steps", 1, 10**5)
+        _within(self, "score_attempts", 1, 1024)
         _within(self, "buffer_size", 1, 2**24)
         _within(self, "refresh_every", 1, INT32_MAX)
         _within(self, "buffer_share", 0.0, 1.0, low_excluded=True)
@@ -307,8 +313,8 @@ class CurriculumSettings:
 
     @property
     def scoring_steps(self) -> int:
-        """Environment steps of one refresh: score_levels x score_steps (0 for 'dr')."""
-        return self.score_levels * self.score_steps if self.name == "sfl" else 0
+        """Environment steps of one refresh: score_levels x score_attempts x score_steps (0 for 'dr')."""
+        return self.score_levels * self.score_attempts * self.score_steps if self.name == "sfl" else 0
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)

@@ -78,6 +78,7 @@ BAD_SETTINGS = [
     ("env.observation=pixels", "model.name: 'pi-mlp' needs env.observation 'symbolic-entity', got 'pixels'"),
     ("curriculum.score_batch=5000", "curriculum.score_batch: must divide curriculum.score_levels"),
     ("curriculum.buffer_size=20000", "curriculum.buffer_size: must be <= curriculum.score_levels"),
+    ("curriculum.score_attempts=0", "curriculum.score_attempts: must be >= 1 and <= 1024 (got 0)"),
     ("curriculum.buffer_share=0", "curriculum.buffer_share: must be > 0 and <= 1"),
     ("curriculum.name=sfl", None),  # with buffer_share 0.001 below: no environment starts from the buffer
 ]

@@ -1,11 +1,12 @@
 """SFL, sampling for learnability (Rutherford et al., 2024; the Kinetix paper's best general agents).
 
 Every `curriculum.refresh_every` updates, `score_levels` candidate levels are drawn from the level source (fresh
-random levels, or the pool) and the current policy plays each for `score_steps` environment steps, restarting
-the same level whenever an episode ends. A level's solve rate p is its solved episodes over its ended episodes
-(0 when none ended); its learnability is p (1 - p): highest for levels solved half of the time, zero for levels
-always or never solved. The `buffer_size` most learnable levels replace the buffer, and `rl.ppo.ppo_update`
-starts `buffer_share` of each update's episodes from them.
+random levels, or the pool) and the current policy plays `score_attempts` copies of each for `score_steps`
+environment steps, restarting the same level whenever an episode ends. A level's solve rate p is its solved
+episodes over its ended episodes, all copies together (0 when none ended); its learnability is p (1 - p):
+highest for levels solved half of the time, zero for levels always or never solved. The `buffer_size` most
+learnable levels replace the buffer, and `rl.ppo.ppo_update` starts `buffer_share` of each update's episodes from
+them.
 """
 
 from __future__ import annotations
@@ -23,11 +24,22 @@ from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.rl.curricula.buffer import LevelBuffer, top_levels
 
 
-def solve_rates(
-    params, env_params: EnvParams, levels: Level, key: jax.Array, *, env: KinetixEnv, network: nn.Module, steps: int
-) -> jax.Array:
-    """(batch,) float32 solve rate of the sampling policy on each of a batch of levels, each played for `steps`
-    environment steps with every ended episode restarted on the same level."""
+def episode_counts(
+    params,
+    env_params: EnvParams,
+    levels: Level,
+    key: jax.Array,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    steps: int,
+    attempts: int = 1,
+) -> tuple[jax.Array, jax.Array]:
+    """Solved and ended episodes, each (batch,) float32, of the sampling policy on each of a batch of levels:
+    `attempts` copies of each level played side by side for `steps` environment steps, every ended episode
+    restarted on the same level, all copies counted together."""
+    count = jax.tree.leaves(levels)[0].shape[0]
+    levels = jax.tree.map(lambda x: jnp.repeat(x, attempts, axis=0), levels)  # copies of a level are adjacent
     obs, state = jax.vmap(env.reset_to_level)(levels)
     step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
 
@@ -37,9 +49,9 @@ def solve_rates(
         obs, state, _, terminated, truncated, info = step(state, action, env_params, levels)
         return (obs, state, ended + (terminated | truncated), solved + info["solved"]), None
 
-    zeros = jnp.zeros(jax.tree.leaves(levels)[0].shape[0], jnp.float32)
+    zeros = jnp.zeros(count * attempts, jnp.float32)
     (_, _, ended, solved), _ = jax.lax.scan(play, (obs, state, zeros, zeros), jax.random.split(key, steps))
-    return solved / jnp.maximum(ended, 1.0)
+    return solved.reshape(count, attempts).sum(1), ended.reshape(count, attempts).sum(1)
 
 
 @functools.partial(jax.jit, static_argnames=("env", "network", "fresh", "curriculum"))
@@ -61,8 +73,17 @@ def refresh_buffer(
     def score_batch(key):
         k_levels, k_play = jax.random.split(key)
         levels = fresh(k_levels, batch) if fresh is not None else draw_levels(pool, k_levels, batch)
-        rates = solve_rates(params, env_params, levels, k_play, env=env, network=network, steps=curriculum.score_steps)
-        return levels, rates
+        solved, ended = episode_counts(
+            params,
+            env_params,
+            levels,
+            k_play,
+            env=env,
+            network=network,
+            steps=curriculum.score_steps,
+            attempts=curriculum.score_attempts,
+        )
+        return levels, solved / jnp.maximum(ended, 1.0)  # p, 0 when no episode ended
 
     keys = jax.random.split(key, curriculum.score_levels // batch)
     levels, rates = jax.lax.map(score_batch, keys)

@@ -3,6 +3,7 @@ and a resumed SFL run ends bit-identical to an uninterrupted one."""
 
 from __future__ import annotations
 
+import functools
 import json
 
 import jax
@@ -11,6 +12,10 @@ import pytest
 
 from helpers.cli import kinetix
 from helpers.runs import tiny_config
+from kinetix_cli.env.factory import make_env
+from kinetix_cli.rl.curricula.sfl import episode_counts
+from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.ppo import init_runner
 from kinetix_cli.rl.train import train
 
 SFL = [
@@ -18,6 +23,7 @@ SFL = [
     "curriculum.score_levels=8",
     "curriculum.score_batch=4",
     "curriculum.score_steps=16",
+    "curriculum.score_attempts=2",
     "curriculum.buffer_size=4",
     "curriculum.refresh_every=2",
     "curriculum.buffer_share=0.5",
@@ -37,8 +43,8 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
     config = tiny_config(*SFL)
     whole = train(config, tmp_path / "whole", pool=tiny_pool)
     records = lines(tmp_path / "whole")
-    assert [r["scoring_steps"] for r in records] == [128, 128, 256, 256, 384, 384]  # refreshes before 1, 3 and 5
-    assert records[0]["scoring_share"] == pytest.approx(128 / (128 + 64))
+    assert [r["scoring_steps"] for r in records] == [256, 256, 512, 512, 768, 768]  # before 1, 3 and 5
+    assert records[0]["scoring_share"] == pytest.approx(256 / (256 + 64))  # 8 levels x 2 attempts x 16 steps
     assert all(r["buffer_size"] == 4 and 0 <= r["buffer_score"] <= 0.25 for r in records)
     assert all(r["buffer_solve_p10"] <= r["buffer_solve_p50"] <= r["buffer_solve_p90"] for r in records)
     scores = np.asarray(whole.buffer.score)
@@ -64,3 +70,25 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
 def test_a_run_without_a_buffer_says_so(capsys, tmp_path, tiny_run):
     line = kinetix(capsys, "levels", "show", tiny_run, "--buffer", "-o", tmp_path / "x.png").error_line
     assert "holds no level buffer (the run's curriculum.name is 'dr')" in line
+
+
+def test_scoring_counts_the_episodes_of_every_copy_of_a_level(tiny_pool):
+    config = tiny_config("env.max_steps=4")  # every episode ends within 4 steps: at least 2 per copy in 8 steps
+    env, env_params = make_env(config.env)
+    network = make_network(config.model, config.env)
+    runner = init_runner(env, network, config.ppo, tiny_pool, jax.random.key(0))
+    count = functools.partial(
+        jax.jit(episode_counts, static_argnames=("env", "network", "steps", "attempts")),
+        runner.params,
+        env_params,
+        tiny_pool,
+        jax.random.key(1),
+        env=env,
+        network=network,
+        steps=8,
+    )
+    for attempts in (1, 3):
+        solved, ended = map(np.asarray, count(attempts=attempts))
+        assert solved.shape == ended.shape == (2,)  # one count per level, copies summed
+        assert (ended >= 2 * attempts).all() and (ended <= 8 * attempts).all()
+        assert (solved >= 0).all() and (solved <= ended).all()
