@@ -12,6 +12,7 @@ import typer
 from rich.table import Table
 
 from kinetix_cli.cli import generate, levels, train
+from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
 from kinetix_cli.cli.console import console, say, show_warning
 from kinetix_cli.errors import UserError
@@ -22,6 +23,7 @@ app.add_typer(generate.commands)
 app.add_typer(train.commands)
 app.add_typer(levels.levels_app, name="levels")
 app.add_typer(bench_app, name="bench")
+app.add_typer(agents_app, name="agents")
 
 
 @app.command()

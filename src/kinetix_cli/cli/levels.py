@@ -155,7 +155,9 @@ def render(
 def rollout(
     level: Path = typer.Argument(..., help="Level file."),
     policy: str = typer.Option(
-        "solution", help="noop, random, solution (the level's stored actions) or a training run directory."
+        "solution",
+        help="noop, random, solution (the level's stored actions), a run or agent folder, or a shipped agent "
+        "(kinetix agents).",
     ),
     out: Path = typer.Option(None, "-o", "--out", help="GIF file to write (omit to only print the outcome)."),
     seed: int = typer.Option(
@@ -174,7 +176,7 @@ def rollout(
     from kinetix_cli.env.factory import make_env, make_env_for_level
     from kinetix_cli.levels.files import load_level
     from kinetix_cli.levels.solution import OPEN_LOOP_POLICIES, SOLUTION_SETTINGS, open_loop_actions
-    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.agents import load_policy, shipped_names
     from kinetix_cli.rl.networks import make_network, sampling_policy
     from kinetix_cli.viz.render import save_gif
     from kinetix_cli.viz.rollout import episode_frames, record_episode
@@ -184,13 +186,14 @@ def rollout(
         env, params = make_env(SOLUTION_SETTINGS, spec.default_static())
         horizon = SOLUTION_SETTINGS.max_steps
         act = open_loop(jax.numpy.asarray(open_loop_actions(spec, policy, horizon, seed)))
-    elif Path(policy).is_dir():
+    elif Path(policy).is_dir() or policy in shipped_names():
         config, network_params, _ = load_policy(policy)
         env, params = make_env_for_level(config.env, spec.default_size(), str(level))
         horizon = config.env.max_steps
         act = sampling_policy(make_network(config.model, config.env), network_params)
     else:
-        raise UserError(f"--policy: {policy!r} is not one of {', '.join(OPEN_LOOP_POLICIES)} nor a run directory")
+        choices = ", ".join([*OPEN_LOOP_POLICIES, *shipped_names()])
+        raise UserError(f"--policy: {policy!r} is not one of {choices} nor a run or agent folder")
     episode = record_episode(env, params, spec.build(env.static), act, jax.random.key(seed), horizon)
     ending = ("solved", "green") if episode.solved else ("failed", "red") if episode.failed else "timed out"
     say(

@@ -35,7 +35,11 @@ def pretrain(
 @commands.command()
 def finetune(
     levels: list[Path] = typer.Argument(..., help="Level files or folders to train on (one size)."),
-    source: str = typer.Option(..., "--from", help="Run directory or checkpoint to start from, or 'none' (scratch)."),
+    source: str = typer.Option(
+        ...,
+        "--from",
+        help="Run directory, checkpoint, agent folder or shipped agent (kinetix agents) to start from, or 'none'.",
+    ),
     run_dir: Path = typer.Option(..., "--run-dir", help="Folder for config, metrics and checkpoints."),
     config: Path = typer.Option(Path("experiments/finetune.yaml"), "--config", help="Experiment config (YAML)."),
     resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
@@ -48,7 +52,7 @@ def finetune(
     still wins. --from none uses the config's, so pass the same --set values to compare the two at equal
     settings."""
     from kinetix_cli.levels.files import level_paths
-    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.agents import load_policy
     from kinetix_cli.rl.train import finetune_config
 
     pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
@@ -82,7 +86,9 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
 
 @commands.command("eval")
 def eval_command(
-    policy: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
+    policy: str = typer.Argument(
+        ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update>, an agent folder or a shipped agent."
+    ),
     levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
     attempts: int = typer.Option(20, min=1, max=10**5, help="Stochastic episodes per level."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
@@ -97,7 +103,7 @@ def eval_command(
     from kinetix_cli.constants import EVAL_FORMAT
     from kinetix_cli.io import atomic_write_json
     from kinetix_cli.levels.files import level_paths
-    from kinetix_cli.rl.checkpoints import load_policy
+    from kinetix_cli.rl.agents import load_policy
     from kinetix_cli.rl.evaluate import evaluate, suite_summary
 
     config, params, update = load_policy(policy)

@@ -42,7 +42,8 @@ from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir
 from kinetix_cli.levels.files import level_paths, load_level
 from kinetix_cli.provenance import environment_info
-from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, load_policy, restore_runner, save_runner
+from kinetix_cli.rl.agents import load_policy
+from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner, save_runner
 from kinetix_cli.rl.curricula.buffer import buffer_metrics
 from kinetix_cli.rl.curricula.sfl import refresh_buffer
 from kinetix_cli.rl.evaluate import Evaluator

@@ -1,0 +1,67 @@
+"""`kinetix agents`: the shipped agents with their scores, and `kinetix agents export`, which makes an agent folder
+(a policy with its config, checksums, training commands and evaluation) from a run."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+from rich.table import Table
+
+from kinetix_cli.cli.console import console
+
+agents_app = typer.Typer(help="Shipped agents (usable by name: kinetix eval general-s) and agent folders.")
+
+
+@agents_app.callback(invoke_without_command=True)
+def agents(
+    ctx: typer.Context,
+    as_json: bool = typer.Option(False, "--json", help="Print the agents' cards as JSON instead of a table."),
+) -> None:
+    """List the shipped agents: name, version, model, training steps and zero-shot solve rate per suite."""
+    if ctx.invoked_subcommand is not None:
+        return
+    from kinetix_cli.rl.agents import shipped_agents
+
+    agents = shipped_agents()
+    if as_json:
+        console.print(json.dumps([card.as_dict() | {"model": _model(config)} for card, config in agents], indent=2))
+        return
+    if not agents:
+        console.print("no shipped agents are installed")
+        return
+    table = Table("agent", "version", "model", "trained", "zero-shot solve rate")
+    for card, config in agents:
+        evaluation = card.evaluation
+        scores = ", ".join(
+            f"{suite}: {row['solve_rate']:.1%} of {row['levels']} levels"
+            for suite, row in evaluation.get("suites", {}).items()
+        )
+        scores = f"{scores} ({evaluation['attempts']} attempts each)" if scores else "not evaluated"
+        trained = f"{card.trained.get('steps', 0):,} env steps"
+        table.add_row(card.name, str(card.version), _model(config), trained, scores)
+    console.print(table)
+
+
+def _model(config) -> str:
+    """One line on an agent's model and what it sees."""
+    model, env = config.model, config.env
+    return f"{model.name} width {model.width}, {env.observation}, trained on size {env.size}"
+
+
+@agents_app.command("export")
+def export(
+    run: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
+    out: Path = typer.Option(..., "-o", "--out", help="Agent folder to write (new, or an agent folder to replace)."),
+    name: str = typer.Option(..., "--name", help="The agent's name, e.g. general-s."),
+    version: int = typer.Option(1, "--version", min=1, max=10**6, help="The agent's version."),
+    evaluation: Path = typer.Option(None, "--eval", help="A kinetix eval --json file of this run, put on the card."),
+    commands: list[str] = typer.Option([], "--command", help="A command that made the run (repeatable, in order)."),
+) -> None:
+    """Write a run's policy as an agent folder: config.yaml, params.msgpack and agent.json (kinetix-agent/1)."""
+    from kinetix_cli.rl.agents import export_agent
+
+    card = export_agent(run, out, name=name, version=version, commands=commands, evaluation=evaluation)
+    size = sum((card.folder / f).stat().st_size for f in card.files)
+    console.print(f"wrote {out}: agent {card.name} version {card.version} ({size / 1024:,.0f} KiB)")

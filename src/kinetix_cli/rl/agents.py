@@ -1,0 +1,199 @@
+"""Agents: trained policies addressed by a run directory, a checkpoint folder, an agent folder or a shipped
+agent's name (`general-s`, ...), and the shipped agents themselves.
+
+An agent folder (`kinetix agents export`) is a policy alone, small enough to ship with the package:
+- `config.yaml`: the experiment config it was trained with (`kinetix-experiment/1`), which fixes its network and
+  its interface to the environment;
+- `params.msgpack`: the network parameters (flax msgpack of the parameter tree);
+- `agent.json` (`kinetix-agent/1`): name, version, the sha256 of both files (verified on every load), how it was
+  trained (run, updates, environment steps, the commands that made it, machine and versions) and its evaluation
+  (`kinetix eval --json` results per suite).
+
+The shipped agents live in `kinetix_cli/rl/shipped/<name>/` and are installed with the package. A name resolves to
+a shipped agent only when no file or folder of that name exists, so a local run called `general-s` still wins.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from flax import serialization
+
+from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
+from kinetix_cli.constants import AGENT_FORMAT, EVAL_FORMAT
+from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write_json, check_output_dir, read_format
+from kinetix_cli.provenance import environment_info
+from kinetix_cli.rl import checkpoints
+from kinetix_cli.rl.networks import params_fit
+
+SHIPPED = Path(__file__).with_name("shipped")
+"""The shipped agents' folders, one per name."""
+AGENT_FILE = "agent.json"
+PARAMS_FILE = "params.msgpack"
+NAME_CHARS = set("abcdefghijklmnopqrstuvwxyz0123456789-_.")
+
+
+@dataclasses.dataclass(frozen=True)
+class AgentCard:
+    """What `agent.json` says of an agent folder.
+
+    Attributes:
+        folder: the agent folder.
+        name: its name (a shipped agent's is how it is addressed).
+        version: its version; a retrained agent of the same name gets a new one.
+        files: sha256 of `config.yaml` and `params.msgpack`, by file name.
+        trained: how it was made: run, update, steps, commands, date, machine and versions.
+        evaluation: zero-shot results per suite (`kinetix eval --json`'s `suites`), with attempts and seed.
+    """
+
+    folder: Path
+    name: str
+    version: int
+    files: dict
+    trained: dict
+    evaluation: dict
+
+    def as_dict(self) -> dict:
+        """The card as `agent.json` holds it, with the folder."""
+        return {"folder": str(self.folder)} | {f.name: getattr(self, f.name) for f in dataclasses.fields(self)[1:]}
+
+
+def shipped_names() -> list[str]:
+    """Names of the agents installed with the package."""
+    if not SHIPPED.is_dir():
+        return []
+    return sorted(p.name for p in SHIPPED.iterdir() if (p / AGENT_FILE).is_file())
+
+
+def shipped_agents() -> list[tuple[AgentCard, ExperimentConfig]]:
+    """(card, config) of every shipped agent, by name."""
+    return [(read_card(SHIPPED / name), load_config(SHIPPED / name / CONFIG_FILENAME)) for name in shipped_names()]
+
+
+def read_card(folder: str | Path) -> AgentCard:
+    """The card of an agent folder, its fields checked; a bad card is a `UserError` naming the file and field."""
+    file = Path(folder) / AGENT_FILE
+    card = read_format(file, AGENT_FORMAT, UserError)
+    expected = {"name": str, "version": int, "files": dict, "trained": dict, "evaluation": dict}
+    for field, kind in expected.items():
+        if not isinstance(card.get(field), kind) or isinstance(card.get(field), bool):
+            raise UserError(f"{file}: {field}: expected {kind.__name__}, got {card.get(field)!r}")
+    for name in (CONFIG_FILENAME, PARAMS_FILE):
+        if not isinstance(card["files"].get(name), str):
+            raise UserError(f"{file}: files.{name}: missing (the sha256 of the agent's {name})")
+    return AgentCard(Path(folder), **{k: card[k] for k in expected})
+
+
+def load_agent(folder: str | Path) -> tuple[ExperimentConfig, object, int]:
+    """(config, params, update) of an agent folder, both files verified against the card's checksums."""
+    folder = Path(folder)
+    card = read_card(folder)
+    for name, digest in card.files.items():
+        file = folder / name
+        try:
+            data = file.read_bytes()
+        except OSError as exc:
+            raise UserError(f"{file}: cannot read: {exc.strerror or exc}") from None
+        if hashlib.sha256(data).hexdigest() != digest:
+            raise UserError(f"{file}: does not match its checksum in {folder / AGENT_FILE}; the agent is damaged")
+    config = load_config(folder / CONFIG_FILENAME)
+    try:
+        params = serialization.msgpack_restore((folder / PARAMS_FILE).read_bytes())
+    except Exception as exc:  # msgpack raises several types for bad bytes (checked above, so unlikely)
+        raise UserError(f"{folder / PARAMS_FILE}: not a parameter file ({type(exc).__name__})") from None
+    if not params_fit(config, params):
+        raise UserError(f"{folder / PARAMS_FILE}: the parameters do not fit the model in {folder / CONFIG_FILENAME}")
+    return config, params, int(card.trained.get("update", 0))
+
+
+def resolve(source: str | os.PathLike) -> Path:
+    """The folder `source` names: itself when it exists, else the shipped agent of that name. Anything else is a
+    `UserError` that lists the shipped names."""
+    path = Path(source)
+    if path.exists() or os.sep in str(source):
+        return path
+    if str(source) in shipped_names():
+        return SHIPPED / str(source)
+    names = ", ".join(shipped_names()) or "none installed"
+    raise UserError(f"{source}: no such run, checkpoint or agent folder, nor a shipped agent (shipped: {names})")
+
+
+def load_policy(source: str | os.PathLike) -> tuple[ExperimentConfig, object, int]:
+    """(config, params, update) of a run directory (latest checkpoint), a checkpoint folder, an agent folder or
+    a shipped agent's name, verified against its checksums."""
+    folder = resolve(source)
+    if (folder / AGENT_FILE).is_file():
+        return load_agent(folder)
+    return checkpoints.load_policy(folder)
+
+
+def export_agent(
+    run: str | os.PathLike,
+    out: str | os.PathLike,
+    *,
+    name: str,
+    version: int,
+    commands: list[str],
+    evaluation: str | os.PathLike | None = None,
+) -> AgentCard:
+    """Write the policy of `run` (a run directory or checkpoint folder) as the agent folder `out`, whole or not at
+    all (written beside it, then renamed into place; an existing agent folder is replaced, anything else there
+    is refused). `evaluation`: a `kinetix eval --json` file of this policy, whose per-suite results go on the
+    card."""
+    if not name or not set(name) <= NAME_CHARS:
+        raise UserError(f"--name {name!r}: use lower-case letters, digits, '-', '_' and '.'")
+    out = check_output_dir(out, "-o")
+    if out.exists() and any(out.iterdir()) and not (out / AGENT_FILE).is_file():
+        raise UserError(f"-o {out}: not empty and not an agent folder; choose a new folder")
+    config, params, update = checkpoints.load_policy(Path(run))
+    scores = _evaluation(evaluation, Path(run)) if evaluation is not None else {}
+    data = {CONFIG_FILENAME: format_config(config).encode(), PARAMS_FILE: serialization.msgpack_serialize(params)}
+    trained = {
+        "run": str(run),
+        "update": update,
+        "steps": update * config.ppo.batch_size,
+        "commands": list(commands),
+        **environment_info(),
+    }
+    card = {
+        "name": name,
+        "version": version,
+        "files": {file: hashlib.sha256(b).hexdigest() for file, b in data.items()},
+        "trained": trained,
+        "evaluation": scores,
+    }
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    try:
+        for file, b in data.items():
+            (staging / file).write_bytes(b)
+        atomic_write_json(staging / AGENT_FILE, card, AGENT_FORMAT)
+        if out.exists():  # the old agent moves aside first, so a kill leaves one whole agent or the other
+            old = staging.with_suffix(".old")
+            out.rename(old)
+            staging.rename(out)
+            shutil.rmtree(old)
+        else:
+            staging.rename(out)
+    except OSError as exc:
+        raise UserError(f"-o {out}: cannot write: {exc.strerror or exc}") from None
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return read_card(out)
+
+
+def _evaluation(file: str | os.PathLike, run: Path) -> dict:
+    """The per-suite results of a `kinetix eval --json` file, with its attempts and seed; it must be of `run`."""
+    payload = read_format(file, EVAL_FORMAT, UserError)
+    suites, attempts = payload.get("suites"), payload.get("attempts")
+    if not isinstance(suites, dict) or not isinstance(attempts, int):
+        raise UserError(f"{file}: suites/attempts: missing; give the file `kinetix eval --json` wrote")
+    if Path(str(payload.get("policy"))).resolve() != run.resolve():
+        raise UserError(f"{file}: policy: evaluates {payload.get('policy')!r}, not {run}")
+    return {"attempts": attempts, "seed": payload.get("seed"), "update": payload.get("update"), "suites": suites}

@@ -1,0 +1,109 @@
+"""Agent folders: a run's policy exported with its config, checksums and evaluation; read back bit for bit by
+folder or, for a shipped agent, by name in eval, rollout and finetune; damaged or mismatched files refused."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import jax
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from helpers.cli import kinetix
+from helpers.runs import EVAL_LEVEL, TINY, TRAIN_LEVELS, set_args
+from kinetix_cli.cli.app import app
+from kinetix_cli.config import load_config
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl import agents
+from kinetix_cli.rl.checkpoints import load_policy as load_checkpoint
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory, tiny_run):
+    """The tiny run evaluated and exported as agent `tiny-agent` (version 3): its folder."""
+    work = tmp_path_factory.mktemp("agents")
+    evaluation = work / "eval.json"
+    result = CliRunner().invoke(
+        app, ["eval", str(tiny_run), "--levels", EVAL_LEVEL, "--attempts", "2", "--json", str(evaluation)]
+    )
+    assert result.exit_code == 0, result.output
+    folder = work / "tiny-agent"
+    commands = ["kinetix pretrain --config experiments/cpu-small.yaml ...", "kinetix eval ..."]
+    agents.export_agent(tiny_run, folder, name="tiny-agent", version=3, commands=commands, evaluation=evaluation)
+    return folder
+
+
+@pytest.fixture
+def shipped(monkeypatch, exported):
+    """`exported` installed as the only shipped agent."""
+    monkeypatch.setattr(agents, "SHIPPED", exported.parent)
+    return exported
+
+
+def test_an_exported_agent_is_the_runs_policy_with_its_card(exported, tiny_run):
+    assert sorted(p.name for p in exported.iterdir()) == ["agent.json", "config.yaml", "params.msgpack"]
+    config, params, update = agents.load_policy(exported)
+    run_config, run_params, run_update = load_checkpoint(tiny_run)
+    assert config == run_config and update == run_update == 6
+    jax.tree.map(np.testing.assert_array_equal, params, run_params)
+    card = agents.read_card(exported)
+    assert (card.name, card.version, card.trained["steps"]) == ("tiny-agent", 3, 6 * 64)
+    assert card.trained["commands"][0].startswith("kinetix pretrain") and "jax" in json.dumps(card.trained)
+    assert card.evaluation["attempts"] == 2 and card.evaluation["suites"]["levels/s"]["levels"] == 1
+    assert (exported / "params.msgpack").stat().st_size < 100_000
+
+
+def test_a_shipped_agent_is_used_by_name(capsys, shipped, tmp_path):
+    listed = kinetix(capsys, "agents")
+    assert listed.code == 0 and "tiny-agent" in listed.out and "384 env steps" in listed.out
+    cards = json.loads(kinetix(capsys, "agents", "--json").out)
+    assert [c["name"] for c in cards] == ["tiny-agent"] and cards[0]["model"].startswith("pi-mlp width 16")
+    evaluated = kinetix(capsys, "eval", "tiny-agent", "--levels", EVAL_LEVEL, "--attempts", "1")
+    assert evaluated.code == 0 and "rocket-car-jump" in evaluated.out
+    played = kinetix(capsys, "rollout", EVAL_LEVEL, "--policy", "tiny-agent")
+    assert played.code == 0 and "policy tiny-agent" in played.out
+    tuned = tmp_path / "tuned"
+    sets = [value for value in TINY if not value.startswith(("env.frame_skip", "run.eval_levels"))]
+    args = ["finetune", *TRAIN_LEVELS, "--from", "tiny-agent", "--run-dir", tuned, "--config"]
+    assert kinetix(capsys, *args, "experiments/cpu-small.yaml", *set_args(sets)).code == 0
+    assert load_config(tuned / "config.yaml").env.frame_skip == 4  # the agent's own, as with --from RUN
+
+
+def test_unknown_names_and_damaged_agents_are_one_line(capsys, shipped, tmp_path):
+    line = kinetix(capsys, "eval", "general-x").error_line
+    assert "general-x: no such run, checkpoint or agent folder, nor a shipped agent (shipped: tiny-agent)" in line
+    line = kinetix(capsys, "rollout", EVAL_LEVEL, "--policy", "general-x").error_line
+    assert "is not one of noop, random, solution, tiny-agent nor a run or agent folder" in line
+
+    damaged = tmp_path / "damaged"
+    shutil.copytree(shipped, damaged)
+    data = bytearray((damaged / "params.msgpack").read_bytes())
+    data[-3] ^= 0x01
+    (damaged / "params.msgpack").write_bytes(bytes(data))
+    line = kinetix(capsys, "eval", damaged, "--levels", EVAL_LEVEL).error_line
+    assert "params.msgpack: does not match its checksum" in line
+
+    card = json.loads((shipped / "agent.json").read_text())
+    (damaged / "agent.json").write_text(json.dumps(card | {"version": "two"}))
+    assert "agent.json: version: expected int, got 'two'" in kinetix(capsys, "eval", damaged).error_line
+    (damaged / "agent.json").write_text(json.dumps(card | {"format": "kinetix-agent/9"}))
+    assert "format: expected 'kinetix-agent/1', got 'kinetix-agent/9'" in kinetix(capsys, "eval", damaged).error_line
+
+
+def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
+    folder = tmp_path / "a"
+    agents.export_agent(tiny_run, folder, name="a", version=1, commands=[])
+    agents.export_agent(tiny_run, folder, name="a", version=2, commands=[])
+    assert agents.read_card(folder).version == 2 and sorted(p.name for p in tmp_path.iterdir()) == ["a"]
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "notes.txt").write_text("mine")
+    with pytest.raises(UserError, match="not empty and not an agent folder"):
+        agents.export_agent(tiny_run, tmp_path / "other", name="a", version=1, commands=[])
+    with pytest.raises(UserError, match="--name 'General S'"):
+        agents.export_agent(tiny_run, tmp_path / "b", name="General S", version=1, commands=[])
+    wrong = tmp_path / "eval.json"
+    wrong.write_text(json.dumps({"format": "kinetix-eval/1", "policy": "elsewhere", "attempts": 2, "suites": {}}))
+    with pytest.raises(UserError, match="policy: evaluates 'elsewhere'"):
+        agents.export_agent(tiny_run, tmp_path / "c", name="c", version=1, commands=[], evaluation=wrong)
