@@ -53,7 +53,8 @@ ActionKind = Literal[ACTION_TYPES]
 ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
 LevelSource = Literal["fresh", "generated", "levelset", "files"]
-CurriculumName = Literal["dr", "sfl"]
+CurriculumName = Literal["dr", "sfl", "plr"]
+PLRScore = Literal["maxmc", "pvl"]
 
 
 class ConfigError(UserError):
@@ -271,23 +272,32 @@ class CurriculumSettings:
     """Which of the source's levels the training episodes start from (`--set curriculum.name=sfl` switches).
 
     Attributes:
-        name: 'dr' (domain randomisation: uniformly from the level source; the baseline) or 'sfl' (sampling for
-            learnability: every `refresh_every` updates the current policy plays `score_levels` levels drawn from
-            the source, `score_attempts` copies of each for `score_steps` steps, restarting the same level whenever
-            an episode ends; a level's learnability is p (1 - p) with p its solve rate over all the episodes that
-            ended, and the `buffer_size` most learnable levels form the
-            buffer; each update then restarts a `buffer_share` of its episodes from buffer levels and the rest
-            from the source). The knobs below are used by 'sfl' only.
-        score_levels: levels scored per refresh (reference 12,288 = 3 x 4,096).
-        score_batch: levels played at once while scoring (bounds memory; divides `score_levels`).
-        score_steps: environment steps each copy of a scored level is played for [steps] (reference 512).
-        score_attempts: copies of each scored level played side by side (reference 1: its 512 steps hold two or
-            more episodes of at most 256 steps); with `score_steps` equal to `env.max_steps`, at least this many
-            episodes decide p.
-        buffer_size: most learnable levels kept (reference 1,024).
-        refresh_every: updates between refreshes of the buffer [updates] (reference 128); the first is before
-            the first update.
-        buffer_share: share of each update's episodes that start from buffer levels (reference 0.5).
+        name: 'dr' (domain randomisation: uniformly from the level source; the baseline), 'sfl' (sampling for
+            learnability, `rl.curricula.sfl`: every `refresh_every` updates the current policy plays
+            `score_levels` levels drawn from the source, `score_attempts` copies of each for `score_steps`
+            steps; the `buffer_size` most learnable (p (1 - p), p the solve rate) form the buffer, and each update
+            restarts a `buffer_share` of its episodes from them, the rest from the source) or 'plr' (robust
+            prioritised level replay, `rl.curricula.plr`: every update resets all environments; with probability
+            `replay_prob` they replay buffer levels, sampled by score rank and staleness, and train on them;
+            otherwise they play new levels from the source without training, only to score them, and the
+            best-scoring levels stay in the buffer of `buffer_size`).
+        score_levels: SFL: levels scored per refresh (reference 12,288 = 3 x 4,096).
+        score_batch: SFL: levels played at once while scoring (bounds memory; divides `score_levels`).
+        score_steps: SFL: environment steps each copy of a scored level is played for [steps] (reference 512).
+        score_attempts: SFL: copies of each scored level played side by side (reference 1: its 512 steps hold
+            two or more episodes of at most 256 steps); with `score_steps` equal to `env.max_steps`, at least this
+            many episodes decide p.
+        buffer_size: levels the buffer holds (reference: SFL 1,024, PLR 4,000).
+        refresh_every: SFL: updates between refreshes of the buffer [updates] (reference 128); the first is
+            before the first update.
+        buffer_share: SFL: share of each update's episodes that start from buffer levels (reference 0.5).
+        replay_prob: PLR: probability that an update replays buffer levels (reference 0.5).
+        staleness: PLR: weight of staleness (updates since a level was last played) against score rank in the
+            replay distribution (reference 0.3).
+        temperature: PLR: the score part of the replay distribution is proportional to rank^(-1/temperature).
+        plr_score: PLR: a level's score, 'maxmc' (mean over the rollout of the best return seen on the level
+            minus the value estimate; the reference's) or 'pvl' (mean positive GAE advantage).
+        min_fill: PLR: share of the buffer that must hold levels before updates replay them.
     """
 
     name: CurriculumName = "dr"
@@ -298,6 +308,11 @@ class CurriculumSettings:
     buffer_size: int = 1_024
     refresh_every: int = 128
     buffer_share: float = 0.5
+    replay_prob: float = 0.5
+    staleness: float = 0.3
+    temperature: float = 0.3
+    plr_score: PLRScore = "maxmc"
+    min_fill: float = 0.5
 
     def __post_init__(self):
         _check_types(self)
@@ -309,7 +324,12 @@ class CurriculumSettings:
         _within(self, "refresh_every", 1, INT32_MAX)
         _within(self, "buffer_share", 0.0, 1.0, low_excluded=True)
         _require(self, "score_batch", self.score_levels % self.score_batch == 0, "must divide curriculum.score_levels")
-        _require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
+        _within(self, "replay_prob", 0.0, 1.0)
+        _within(self, "staleness", 0.0, 1.0)
+        _within(self, "temperature", 0.0, 100.0, low_excluded=True)
+        _within(self, "min_fill", 0.0, 1.0)
+        if self.name == "sfl":
+            _require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
 
     @property
     def scoring_steps(self) -> int:
@@ -343,6 +363,11 @@ class ExperimentConfig:
             raise ConfigError(
                 f"curriculum.buffer_share: {self.curriculum.buffer_share:g} of ppo.num_envs {self.ppo.num_envs} "
                 "is no environment; raise either"
+            )
+        if self.curriculum.name == "plr" and self.ppo.num_steps < self.env.max_steps:
+            raise ConfigError(
+                f"ppo.num_steps: {self.ppo.num_steps} is shorter than env.max_steps {self.env.max_steps}; "
+                "'plr' resets every environment at each update, so a shorter rollout would cut every episode"
             )
         allowed = MODEL_OBSERVATIONS[self.model.name]
         if self.env.observation not in allowed:

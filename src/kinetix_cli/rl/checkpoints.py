@@ -165,7 +165,9 @@ def load_buffer(path: str | Path, placeholder: Level) -> tuple[LevelBuffer, int]
     config, raw, where = _restore_raw(Path(path))
     if raw.get("buffer") is None:
         raise UserError(f"{where}: holds no level buffer (the run's curriculum.name is {config.curriculum.name!r})")
-    template = LevelBuffer(levels=placeholder, score=None, solve_rate=None, size=None)
+    template = LevelBuffer(
+        levels=placeholder, score=None, solve_rate=None, size=None, last_seen=None, max_return=None, rounds=None
+    )
     return serialization.from_state_dict(template, raw["buffer"]), int(where.name)
 
 

@@ -22,6 +22,7 @@ touched blue or red, NaN) zero the bootstrap.
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from typing import Any
 
 import flax.linen as nn
@@ -30,10 +31,11 @@ import jax.numpy as jnp
 import optax
 from flax import struct
 
-from kinetix_cli.config import PPOSettings
+from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
-from kinetix_cli.env.level import Level, draw_levels
+from kinetix_cli.env.level import Level, draw_levels, index_level
 from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.rl.curricula import plr
 from kinetix_cli.rl.curricula.buffer import LevelBuffer, draw_from_buffer, empty_buffer
 
 
@@ -183,26 +185,19 @@ def init_runner(
     )
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "buffer_share"))
-def ppo_update(
+def collect(
     runner: Runner,
     env_params: EnvParams,
-    levels: Level | None,
+    restart: Callable[[jax.Array], Level],
     *,
     env: KinetixEnv,
     network: nn.Module,
-    settings: PPOSettings,
-    fresh: FreshLevels | None = None,
-    buffer_share: float = 0.0,
-) -> tuple[Runner, dict]:
-    """One PPO update: collect `num_steps` steps in every env, GAE, then `update_epochs` passes of
-    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars).
-
-    Episodes restart from `levels` (or from fresh levels sampled for this update, with `fresh`), and a
-    `buffer_share` of them from the runner's level buffer (`update_levels`)."""
-    optimizer = make_optimizer(settings)
-    batch_size = settings.batch_size
-    runner, levels = update_levels(runner, env, levels, fresh, buffer_share, settings.num_envs)
+    num_steps: int,
+) -> tuple[Runner, Transition, jax.Array]:
+    """Play `num_steps` steps in every environment with the sampling policy. Episodes that end restart from
+    `restart(key)`, a batch of one level per environment drawn at each step. Returns the runner (environments,
+    observations, key and running returns advanced), the (num_steps, num_envs) transitions and the returns of the
+    episodes that ended at each step (0 elsewhere)."""
 
     def env_step(runner: Runner, _):
         # --- act
@@ -210,10 +205,11 @@ def ppo_update(
         dist, value = network.apply(runner.params, runner.obs)
         action = dist.sample(k_act)
         log_prob = dist.log_prob(action)
-        # --- step; ended episodes restart from pool levels
-        restart = draw_levels(levels, k_reset, settings.num_envs)
+        # --- step; ended episodes restart
         step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
-        obs, env_state, reward, terminated, truncated, info = step(runner.env_state, action, env_params, restart)
+        obs, env_state, reward, terminated, truncated, info = step(
+            runner.env_state, action, env_params, restart(k_reset)
+        )
         _, next_value = network.apply(runner.params, info["final_observation"])
         done = terminated | truncated
         transition = Transition(
@@ -234,6 +230,18 @@ def ppo_update(
         )
         return runner, (transition, finished_return)
 
+    runner, (transitions, finished_return) = jax.lax.scan(env_step, runner, None, length=num_steps)
+    return runner, transitions, finished_return
+
+
+def learn(
+    runner: Runner, transitions: Transition, advantages, targets, *, network: nn.Module, settings: PPOSettings
+) -> tuple[Runner, dict]:
+    """`update_epochs` passes of `num_minibatches` Adam steps on the clipped PPO loss over the rollout. Returns
+    the runner with new parameters, optimiser state and key, and the losses (update_epochs, num_minibatches)."""
+    optimizer = make_optimizer(settings)
+    batch_size = settings.batch_size
+
     def update_minibatch(train, minibatch):
         params, opt_state = train
         batch, advantages, targets = minibatch
@@ -251,20 +259,101 @@ def ppo_update(
         (params, opt_state), losses = jax.lax.scan(update_minibatch, (params, opt_state), minibatches)
         return (params, opt_state, key, data), losses
 
-    # --- collect
-    runner, (transitions, finished_return) = jax.lax.scan(env_step, runner, None, length=settings.num_steps)
-    # --- GAE
-    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
-    # --- update epochs
     key, k_epochs = jax.random.split(runner.key)
     carry = (runner.params, runner.opt_state, k_epochs, (transitions, advantages, targets))
     (params, opt_state, _, _), losses = jax.lax.scan(update_epoch, carry, None, length=settings.update_epochs)
-    runner = runner.replace(params=params, opt_state=opt_state, key=key, update=runner.update + 1)
+    return runner.replace(params=params, opt_state=opt_state, key=key), losses
+
+
+def rollout_metrics(transitions: Transition, finished_return: jax.Array, losses: dict) -> dict:
+    """The update's scalars: episodes ended, their mean return and solve rate, and the mean of each loss."""
     episodes = transitions.done.sum()
-    metrics = {
+    return {
         "episodes": episodes,
         "return": finished_return.sum() / jnp.maximum(episodes, 1.0),
         "solve_rate": transitions.solved.sum() / jnp.maximum(episodes, 1.0),
         **jax.tree.map(jnp.mean, losses),
     }
-    return runner, metrics
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "buffer_share"))
+def ppo_update(
+    runner: Runner,
+    env_params: EnvParams,
+    levels: Level | None,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+    fresh: FreshLevels | None = None,
+    buffer_share: float = 0.0,
+) -> tuple[Runner, dict]:
+    """One PPO update (DR and SFL): collect `num_steps` steps in every env, GAE, then `update_epochs` passes of
+    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars).
+
+    Episodes restart from `levels` (or from fresh levels sampled for this update, with `fresh`), and a
+    `buffer_share` of them from the runner's level buffer (`update_levels`)."""
+    runner, levels = update_levels(runner, env, levels, fresh, buffer_share, settings.num_envs)
+    restart = lambda key: draw_levels(levels, key, settings.num_envs)  # noqa: E731
+    # --- collect
+    runner, transitions, finished_return = collect(
+        runner, env_params, restart, env=env, network=network, num_steps=settings.num_steps
+    )
+    # --- GAE
+    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
+    # --- update epochs
+    runner, losses = learn(runner, transitions, advantages, targets, network=network, settings=settings)
+    runner = runner.replace(update=runner.update + 1)
+    return runner, rollout_metrics(transitions, finished_return, losses)
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
+def plr_update(
+    runner: Runner,
+    env_params: EnvParams,
+    levels: Level | None,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+    fresh: FreshLevels | None,
+    curriculum: CurriculumSettings,
+) -> tuple[Runner, dict]:
+    """One update of robust PLR (`rl.curricula.plr`): every environment is reset to a level of its own and
+    replays it whenever an episode ends. A replay update (probability `replay_prob`, once the buffer is
+    `min_fill` full) plays buffer levels sampled by `plr.replay_probabilities`, trains on them as `ppo_update`
+    does and rescores them; otherwise the environments play new levels from the source (`fresh`, or draws from
+    `levels`) without training, and the buffer keeps the best-scoring of its levels and these.
+    Metrics: those of `ppo_update` (losses 0 when nothing was trained) and `replay` (1 or 0)."""
+    n = settings.num_envs
+    buffer = runner.buffer
+    key, k_mode, k_new, k_replay = jax.random.split(runner.key, 4)
+    ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
+    replay = (jax.random.uniform(k_mode) < curriculum.replay_prob) & ready
+    slots = plr.sample_replay(buffer, k_replay, n, runner.update, curriculum)
+    new = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
+    played = jax.tree.map(lambda b, f: jnp.where(replay, b, f), index_level(buffer.levels, slots), new)
+    obs, env_state = jax.vmap(env.reset_to_level)(played)
+    runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
+    # --- collect: every environment stays on its level
+    runner, transitions, finished_return = collect(
+        runner, env_params, lambda _: played, env=env, network=network, num_steps=settings.num_steps
+    )
+    # --- GAE and the levels' scores
+    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
+    best_before = jnp.where(replay, buffer.max_return[slots], -jnp.inf)
+    score, solve_rate, best = plr.level_scores(
+        transitions.value, advantages, finished_return, transitions.done, transitions.solved, best_before, curriculum
+    )
+    # --- train on replayed levels only
+    train = lambda r: learn(r, transitions, advantages, targets, network=network, settings=settings)  # noqa: E731
+    skipped = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), jax.eval_shape(train, runner)[1])
+    runner, losses = jax.lax.cond(replay, train, lambda r: (r, skipped), runner)
+    buffer = jax.lax.cond(
+        replay,
+        lambda b: plr.rescore(b, slots, score, solve_rate, best, runner.update),
+        lambda b: plr.insert(b, new, score, solve_rate, best, runner.update),
+        buffer,
+    )
+    runner = runner.replace(buffer=buffer, update=runner.update + 1)
+    return runner, rollout_metrics(transitions, finished_return, losses) | {"replay": replay.astype(jnp.float32)}

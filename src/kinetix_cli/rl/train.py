@@ -4,9 +4,10 @@ loops PPO updates (`kinetix_cli.rl.ppo`) with metrics, evaluation, checkpoints a
 A run directory holds:
 - `config.yaml`: the resolved experiment config (`kinetix-experiment/1`);
 - `versions.json`: library versions and machine;
-- `metrics.jsonl`: one JSON object per update (update, env steps, SPS, return, solve rate, losses; every
-  `run.eval_every` updates also `eval_solve_rate` and `eval_return` on `run.eval_levels`; with a curriculum the
-  buffer's size, mean score and solve-rate percentiles, and the steps spent scoring levels);
+- `metrics.jsonl`: one JSON object per update (update, env steps of the updates, all env steps including
+  scoring rollouts, SPS, return, solve rate, losses; every `run.eval_every` updates also `eval_solve_rate` and
+  `eval_return` on `run.eval_levels`; with a curriculum the buffer's size, mean score and solve-rate
+  percentiles, and the steps spent scoring levels);
 - `checkpoints/<update>/`: orbax checkpoints of the whole training state (`kinetix_cli.rl.checkpoints`), every
   `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one and, because the
   whole state is saved, reaches the same parameters as an uninterrupted run.
@@ -29,7 +30,6 @@ import numpy as np
 
 from kinetix_cli.config import (
     CONFIG_FILENAME,
-    CurriculumSettings,
     ExperimentConfig,
     config_to_dict,
     load_config,
@@ -49,7 +49,7 @@ from kinetix_cli.rl.curricula.sfl import refresh_buffer
 from kinetix_cli.rl.evaluate import Evaluator
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
-from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
+from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, plr_update, ppo_update
 
 METRICS_FILE = "metrics.jsonl"
 VERSIONS_FILE = "versions.json"
@@ -91,13 +91,20 @@ def train(
     env, env_params = make_env(config.env)
     network = make_network(config.model, config.env)
     settings, curriculum = config.ppo, config.curriculum
-    sfl = curriculum.name == "sfl"
-    update = functools.partial(
-        ppo_update, env=env, network=network, settings=settings, fresh=fresh, buffer_share=curriculum.buffer_share * sfl
-    )
+    sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
+    if curriculum.name == "plr":
+        update = functools.partial(
+            plr_update, env=env, network=network, settings=settings, fresh=fresh, curriculum=curriculum
+        )
+    else:
+        share = curriculum.buffer_share * sfl
+        update = functools.partial(
+            ppo_update, env=env, network=network, settings=settings, fresh=fresh, buffer_share=share
+        )
     refresh = functools.partial(refresh_buffer, env=env, network=network, fresh=fresh, curriculum=curriculum)
     key = jax.random.key(config.run.seed)
-    runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=curriculum.buffer_size * sfl)
+    size = curriculum.buffer_size * buffered
+    runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=size)
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
@@ -123,14 +130,14 @@ def train(
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
             if sfl and u % curriculum.refresh_every == 0:  # the curriculum's buffer, scored with the current policy
-                runner = runner.replace(buffer=refresh(runner.params, env_params, pool, _scoring_key(key, u)))
+                scored = refresh(runner.params, env_params, pool, _scoring_key(key, u), buffer=runner.buffer, update=u)
+                runner = runner.replace(buffer=scored)
             runner, metrics = update(runner, env_params, pool)
             metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
-            if sfl:
-                record |= _curriculum_metrics(runner, curriculum, u, steps)
+            record |= _curriculum_metrics(runner, config, steps)
             if not all(math.isfinite(v) for v in metrics.values()):
                 bad = sorted(k for k, v in metrics.items() if not math.isfinite(v))
                 raise UserError(
@@ -192,12 +199,19 @@ def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
     return jax.random.fold_in(jax.random.fold_in(run_key, 1), update)
 
 
-def _curriculum_metrics(runner: Runner, curriculum: CurriculumSettings, update: int, steps: int) -> dict:
-    """The buffer's size, mean score and solve-rate distribution, and the environment steps spent scoring
-    levels so far (`scoring_steps`) and their share of all environment steps (`scoring_share`)."""
-    scoring = (update // curriculum.refresh_every + 1) * curriculum.scoring_steps
+def _curriculum_metrics(runner: Runner, config: ExperimentConfig, steps: int) -> dict:
+    """`total_steps`: every environment step so far, `steps` of the updates plus SFL's scoring rollouts. With a
+    curriculum also the buffer's size, mean score and solve-rate distribution, and the environment steps spent
+    scoring levels rather than training on them (`scoring_steps`: SFL's refreshes, PLR's updates on new levels)
+    and their share of `total_steps` (`scoring_share`)."""
+    if runner.buffer is None:
+        return {"total_steps": steps}
+    rounds = int(runner.buffer.rounds)
+    sfl = config.curriculum.name == "sfl"
+    scoring = rounds * (config.curriculum.scoring_steps if sfl else config.ppo.batch_size)
+    total = steps + scoring if sfl else steps
     buffer = {k: float(v) for k, v in jax.device_get(buffer_metrics(runner.buffer)).items()}
-    return buffer | {"scoring_steps": scoring, "scoring_share": scoring / (scoring + steps)}
+    return buffer | {"total_steps": total, "scoring_steps": scoring, "scoring_share": scoring / total}
 
 
 def _evaluator(config: ExperimentConfig) -> Evaluator | None:

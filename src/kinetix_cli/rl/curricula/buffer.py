@@ -19,15 +19,22 @@ class LevelBuffer:
 
     Attributes:
         levels: (capacity, ...) batched levels; slots at and after `size` hold placeholders.
-        score: (capacity,) float32 the curriculum's priority (SFL: learnability p (1 - p)).
-        solve_rate: (capacity,) float32 the policy's solve rate p when the level was scored.
+        score: (capacity,) float32 the curriculum's priority (SFL: learnability p (1 - p); PLR: MaxMC or
+            positive value loss).
+        solve_rate: (capacity,) float32 the policy's solve rate p when the level was last played.
         size: () int32 filled slots.
+        last_seen: (capacity,) int32 the update at which the level was last played (PLR's staleness).
+        max_return: (capacity,) float32 the best episode return seen on the level (PLR's MaxMC score).
+        rounds: () int32 scoring rounds so far: SFL refreshes, or PLR updates spent on new levels (no training).
     """
 
     levels: Level
     score: jax.Array
     solve_rate: jax.Array
     size: jax.Array
+    last_seen: jax.Array
+    max_return: jax.Array
+    rounds: jax.Array
 
 
 def empty_buffer(placeholder: Level, capacity: int) -> LevelBuffer:
@@ -37,17 +44,32 @@ def empty_buffer(placeholder: Level, capacity: int) -> LevelBuffer:
         score=jnp.zeros(capacity, jnp.float32),
         solve_rate=jnp.zeros(capacity, jnp.float32),
         size=jnp.zeros((), jnp.int32),
+        last_seen=jnp.zeros(capacity, jnp.int32),
+        max_return=jnp.zeros(capacity, jnp.float32),
+        rounds=jnp.zeros((), jnp.int32),
     )
 
 
-def top_levels(levels: Level, score: jax.Array, solve_rate: jax.Array, capacity: int) -> LevelBuffer:
-    """The `capacity` highest-scoring of a batch of levels (ties: the earlier level), best first."""
+def top_levels(
+    levels: Level,
+    score: jax.Array,
+    solve_rate: jax.Array,
+    capacity: int,
+    last_seen: jax.Array,
+    max_return: jax.Array,
+    rounds: jax.Array,
+) -> LevelBuffer:
+    """A buffer of the `capacity` highest-scoring of a batch of levels (ties: the earlier level), best first;
+    levels scoring -inf are left out (empty slots)."""
     _, best = jax.lax.top_k(score, capacity)
     return LevelBuffer(
         levels=index_level(levels, best),
         score=score[best],
         solve_rate=solve_rate[best],
-        size=jnp.asarray(capacity, jnp.int32),
+        size=jnp.isfinite(score[best]).sum().astype(jnp.int32),
+        last_seen=last_seen[best],
+        max_return=max_return[best],
+        rounds=jnp.asarray(rounds, jnp.int32),
     )
 
 

@@ -65,9 +65,12 @@ def refresh_buffer(
     network: nn.Module,
     fresh: FreshLevels | None,
     curriculum: CurriculumSettings,
+    buffer: LevelBuffer,
+    update: jax.Array,
 ) -> LevelBuffer:
     """Score `curriculum.score_levels` candidates (fresh levels, or draws from `pool`) in batches of
-    `score_batch` and return the `buffer_size` most learnable as the new buffer."""
+    `score_batch` and return the `buffer_size` most learnable as the new buffer (its scoring rounds counted on
+    from the old `buffer`'s; `update` stamps the levels' `last_seen`)."""
     batch = curriculum.score_batch
 
     def score_batch(key):
@@ -88,4 +91,6 @@ def refresh_buffer(
     keys = jax.random.split(key, curriculum.score_levels // batch)
     levels, rates = jax.lax.map(score_batch, keys)
     levels, rates = jax.tree.map(lambda x: x.reshape((-1, *x.shape[2:])), (levels, rates))
-    return top_levels(levels, rates * (1.0 - rates), rates, curriculum.buffer_size)
+    seen = jnp.full(rates.shape, update, jnp.int32)
+    rounds = buffer.rounds + 1
+    return top_levels(levels, rates * (1.0 - rates), rates, curriculum.buffer_size, seen, jnp.zeros_like(rates), rounds)

@@ -1,0 +1,120 @@
+"""Robust PLR: the replay distribution (rank and staleness), the MaxMC and PVL scores, the buffer's rescoring and
+insertion, and a PLR run that trains only on replays and resumes bit-identically."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from helpers.runs import tiny_config
+from kinetix_cli.config import ConfigError, CurriculumSettings
+from kinetix_cli.rl.curricula import plr
+from kinetix_cli.rl.curricula.buffer import empty_buffer
+from kinetix_cli.rl.train import train
+
+PLR = [
+    "curriculum.name=plr",
+    "curriculum.buffer_size=8",
+    "curriculum.min_fill=0.5",
+    "env.max_steps=8",  # the tiny run's rollouts are 8 steps: whole episodes
+    "run.eval_every=0",
+]
+
+
+def buffer_of(tiny_pool, scores, seen, capacity=6):
+    empty = empty_buffer(tiny_pool, capacity)
+    n = len(scores)
+    return empty.replace(
+        score=empty.score.at[:n].set(jnp.asarray(scores, jnp.float32)),
+        last_seen=empty.last_seen.at[:n].set(jnp.asarray(seen, jnp.int32)),
+        size=jnp.asarray(n, jnp.int32),
+    )
+
+
+def test_replay_mixes_score_rank_and_staleness_over_filled_slots(tiny_pool):
+    buffer = buffer_of(tiny_pool, [0.1, 0.4, 0.2, 0.3], [9, 8, 5, 10])  # ranks 4, 1, 3, 2
+    by_rank = CurriculumSettings(name="plr", staleness=0.0, temperature=0.5)
+    p = np.asarray(plr.replay_probabilities(buffer, jnp.asarray(10), by_rank))
+    h = np.array([4.0, 1.0, 3.0, 2.0]) ** -2.0
+    np.testing.assert_allclose(p, [*(h / h.sum()), 0, 0], rtol=1e-5)
+    by_age = dataclasses.replace(by_rank, staleness=1.0)
+    p = np.asarray(plr.replay_probabilities(buffer, jnp.asarray(10), by_age))
+    np.testing.assert_allclose(p, [1 / 8, 2 / 8, 5 / 8, 0, 0, 0], rtol=1e-5)
+    slots = np.asarray(plr.sample_replay(buffer, jax.random.key(0), 512, jnp.asarray(10), by_age))
+    assert set(slots) == {0, 1, 2} and (slots == 2).mean() > 0.5
+
+
+def test_maxmc_and_pvl_scores():
+    value = jnp.array([[0.5, 0.0], [0.3, 0.2]])  # (steps, envs)
+    advantages = jnp.array([[0.2, -0.1], [-0.3, 0.4]])
+    finished = jnp.array([[0.0, 0.0], [0.9, 0.0]])
+    done = jnp.array([[0.0, 0.0], [1.0, 0.0]])
+    solved = jnp.array([[0.0, 0.0], [1.0, 0.0]])
+    before = jnp.array([-jnp.inf, 1.5])
+    maxmc = CurriculumSettings(name="plr", plr_score="maxmc")
+    score, rate, best = plr.level_scores(value, advantages, finished, done, solved, before, maxmc)
+    np.testing.assert_allclose(best, [0.9, 1.5])
+    np.testing.assert_allclose(score, [(0.4 + 0.6) / 2, (1.5 + 1.3) / 2], rtol=1e-6)
+    np.testing.assert_allclose(rate, [1.0, 0.0])
+    pvl = dataclasses.replace(maxmc, plr_score="pvl")
+    np.testing.assert_allclose(plr.level_scores(value, advantages, finished, done, solved, before, pvl)[0], [0.1, 0.2])
+
+
+def test_insert_fills_empty_slots_then_replaces_lower_scores_and_rescore_updates_in_place(tiny_pool):
+    buffer = buffer_of(tiny_pool, [0.5, 0.1], [1, 1], capacity=3)
+    levels = jax.tree.map(lambda x: jnp.concatenate([x, x]), tiny_pool)  # 4 new levels
+    scores = jnp.array([0.3, 0.05, 0.7, 0.2])
+    zeros = jnp.zeros(4)
+    inserted = plr.insert(buffer, levels, scores, zeros, zeros, 4)
+    np.testing.assert_allclose(inserted.score, [0.7, 0.5, 0.3])
+    np.testing.assert_array_equal(inserted.last_seen, [4, 1, 4])
+    assert int(inserted.size) == 3 and int(inserted.rounds) == 1
+    few = plr.insert(empty_buffer(tiny_pool, 8), levels, scores, zeros, zeros, 0)
+    assert int(few.size) == 4 and np.isneginf(np.asarray(few.score)[4:]).all()
+
+    rescored = plr.rescore(inserted, jnp.array([2, 0]), jnp.array([0.9, 0.1]), jnp.ones(2), jnp.ones(2), 6)
+    np.testing.assert_allclose(rescored.score, [0.1, 0.5, 0.9])
+    np.testing.assert_array_equal(rescored.last_seen, [6, 1, 6])
+    assert int(rescored.rounds) == 1
+
+
+def lines(run_dir):
+    return [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in (run_dir / "metrics.jsonl").open()]
+
+
+class Crash(Exception):
+    pass
+
+
+def test_a_plr_run_trains_only_on_replays_and_resumes_bit_identically(tmp_path, tiny_pool):
+    config = tiny_config(*PLR, "ppo.total_timesteps=640")  # 10 updates
+    whole = train(config, tmp_path / "whole", pool=tiny_pool)
+    records = lines(tmp_path / "whole")
+    replays = [r["replay"] for r in records]
+    assert replays[:1] == [0.0] and 1.0 in replays, replays  # the buffer fills before the first replay
+    for r in records:
+        assert (r["loss"] == 0.0) == (r["replay"] == 0.0)  # new levels are scored, not trained on
+        assert r["scoring_steps"] == 64 * sum(1 - x["replay"] for x in records if x["update"] <= r["update"])
+        assert r["total_steps"] == r["steps"] and r["scoring_share"] == r["scoring_steps"] / r["steps"]
+    assert records[-1]["buffer_size"] == 8
+
+    def crash_after_5(record):
+        if record["update"] == 5:
+            raise Crash
+
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", pool=tiny_pool, progress=crash_after_5)
+    resumed = train(config, tmp_path / "cut", resume=True, pool=tiny_pool)
+    jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
+    jax.tree.map(np.testing.assert_array_equal, whole.buffer, resumed.buffer)
+    assert lines(tmp_path / "cut") == records
+
+
+def test_plr_needs_whole_episodes_in_a_rollout():
+    with pytest.raises(ConfigError, match="ppo.num_steps: 8 is shorter than env.max_steps 256"):
+        tiny_config("curriculum.name=plr", "env.max_steps=256")
