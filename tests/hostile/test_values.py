@@ -79,6 +79,9 @@ BAD_SETTINGS = [
     ("curriculum.score_batch=5000", "curriculum.score_batch: must divide curriculum.score_levels"),
     ("curriculum.buffer_size=20000", "curriculum.buffer_size: must be <= curriculum.score_levels"),
     ("curriculum.score_attempts=0", "curriculum.score_attempts: must be >= 1 and <= 1024 (got 0)"),
+    ("curriculum.temperature=0", "curriculum.temperature: must be > 0 and <= 100"),
+    ("curriculum.replay_prob=1.5", "curriculum.replay_prob: must be >= 0 and <= 1"),
+    ("curriculum.plr_score=regret", "curriculum.plr_score"),
     ("curriculum.buffer_share=0", "curriculum.buffer_share: must be > 0 and <= 1"),
     ("curriculum.name=sfl", None),  # with buffer_share 0.001 below: no environment starts from the buffer
 ]
@@ -89,6 +92,8 @@ def test_config_values_out_of_range_are_one_line(capsys, tmp_path, setting, mess
     args = ["pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "run", "--set", setting]
     if setting == "model.heads=6":
         args += ["--set", "model.name=transformer", "--set", "model.width=120"]
+    if setting.startswith("curriculum.buffer_size"):
+        args += ["--set", "curriculum.name=sfl"]  # SFL keeps the best of the levels it scores
     if message is None:
         args += ["--set", "curriculum.buffer_share=0.001"]
         message = "curriculum.buffer_share: 0.001 of ppo.num_envs 64 is no environment"
