@@ -53,7 +53,7 @@ ActionKind = Literal[ACTION_TYPES]
 ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
 LevelSource = Literal["fresh", "generated", "levelset", "files"]
-CurriculumName = Literal["dr", "sfl", "plr"]
+CurriculumName = Literal["dr", "sfl", "plr", "accel"]
 PLRScore = Literal["maxmc", "pvl"]
 
 
@@ -280,7 +280,8 @@ class CurriculumSettings:
             prioritised level replay, `rl.curricula.plr`: every update resets all environments; with probability
             `replay_prob` they replay buffer levels, sampled by score rank and staleness, and train on them;
             otherwise they play new levels from the source without training, only to score them, and the
-            best-scoring levels stay in the buffer of `buffer_size`).
+            best-scoring levels stay in the buffer of `buffer_size`) or 'accel' (PLR whose candidates are also
+            mutations of buffer levels: `edits` random edits each, `generator.mutate`).
         score_levels: SFL: levels scored per refresh (reference 12,288 = 3 x 4,096).
         score_batch: SFL: levels played at once while scoring (bounds memory; divides `score_levels`).
         score_steps: SFL: environment steps each copy of a scored level is played for [steps] (reference 512).
@@ -298,6 +299,7 @@ class CurriculumSettings:
         plr_score: PLR: a level's score, 'maxmc' (mean over the rollout of the best return seen on the level
             minus the value estimate; the reference's) or 'pvl' (mean positive GAE advantage).
         min_fill: PLR: share of the buffer that must hold levels before updates replay them.
+        edits: ACCEL: random edits per mutated level.
     """
 
     name: CurriculumName = "dr"
@@ -313,6 +315,7 @@ class CurriculumSettings:
     temperature: float = 0.3
     plr_score: PLRScore = "maxmc"
     min_fill: float = 0.5
+    edits: int = 5
 
     def __post_init__(self):
         _check_types(self)
@@ -328,6 +331,7 @@ class CurriculumSettings:
         _within(self, "staleness", 0.0, 1.0)
         _within(self, "temperature", 0.0, 100.0, low_excluded=True)
         _within(self, "min_fill", 0.0, 1.0)
+        _within(self, "edits", 1, 100)
         if self.name == "sfl":
             _require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
 
@@ -364,10 +368,11 @@ class ExperimentConfig:
                 f"curriculum.buffer_share: {self.curriculum.buffer_share:g} of ppo.num_envs {self.ppo.num_envs} "
                 "is no environment; raise either"
             )
-        if self.curriculum.name == "plr" and self.ppo.num_steps < self.env.max_steps:
+        if self.curriculum.name in ("plr", "accel") and self.ppo.num_steps < self.env.max_steps:
             raise ConfigError(
                 f"ppo.num_steps: {self.ppo.num_steps} is shorter than env.max_steps {self.env.max_steps}; "
-                "'plr' resets every environment at each update, so a shorter rollout would cut every episode"
+                f"{self.curriculum.name!r} resets every environment at each update, so a shorter rollout would cut "
+                "every episode"
             )
         allowed = MODEL_OBSERVATIONS[self.model.name]
         if self.env.observation not in allowed:

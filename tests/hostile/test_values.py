@@ -82,6 +82,7 @@ BAD_SETTINGS = [
     ("curriculum.temperature=0", "curriculum.temperature: must be > 0 and <= 100"),
     ("curriculum.replay_prob=1.5", "curriculum.replay_prob: must be >= 0 and <= 1"),
     ("curriculum.plr_score=regret", "curriculum.plr_score"),
+    ("curriculum.edits=0", "curriculum.edits: must be >= 1 and <= 100 (got 0)"),
     ("curriculum.buffer_share=0", "curriculum.buffer_share: must be > 0 and <= 1"),
     ("curriculum.name=sfl", None),  # with buffer_share 0.001 below: no environment starts from the buffer
 ]

@@ -35,6 +35,7 @@ from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels, index_level
 from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.generator.mutate import mutate_level
 from kinetix_cli.rl.curricula import plr
 from kinetix_cli.rl.curricula.buffer import LevelBuffer, draw_from_buffer, empty_buffer
 
@@ -319,20 +320,30 @@ def plr_update(
     fresh: FreshLevels | None,
     curriculum: CurriculumSettings,
 ) -> tuple[Runner, dict]:
-    """One update of robust PLR (`rl.curricula.plr`): every environment is reset to a level of its own and
-    replays it whenever an episode ends. A replay update (probability `replay_prob`, once the buffer is
-    `min_fill` full) plays buffer levels sampled by `plr.replay_probabilities`, trains on them as `ppo_update`
-    does and rescores them; otherwise the environments play new levels from the source (`fresh`, or draws from
-    `levels`) without training, and the buffer keeps the best-scoring of its levels and these.
-    Metrics: those of `ppo_update` (losses 0 when nothing was trained) and `replay` (1 or 0)."""
+    """One update of robust PLR or ACCEL (`rl.curricula.plr`): every environment is reset to a level of its own
+    and replays it whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer
+    levels sampled by `plr.replay_probabilities`, trains on them as `ppo_update` does and rescores them; the other
+    updates play candidates without training (new levels from the source, `fresh` or draws from `levels`; with
+    ACCEL also `edits`-fold mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
+    these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
+    picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
+    Metrics: those of `ppo_update` (losses 0 when nothing was trained), `replay` and `mutate` (1 or 0)."""
     n = settings.num_envs
     buffer = runner.buffer
-    key, k_mode, k_new, k_replay = jax.random.split(runner.key, 4)
+    key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
     ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
-    replay = (jax.random.uniform(k_mode) < curriculum.replay_prob) & ready
+    u, p = jax.random.uniform(k_mode), curriculum.replay_prob
+    accel = curriculum.name == "accel"
+    replay = ready & (u < (p / (1.0 + p) if accel else p))
+    mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
     slots = plr.sample_replay(buffer, k_replay, n, runner.update, curriculum)
-    new = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
-    played = jax.tree.map(lambda b, f: jnp.where(replay, b, f), index_level(buffer.levels, slots), new)
+    buffered = index_level(buffer.levels, slots)
+    candidates = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
+    if accel:
+        edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
+        mutated = jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)
+        candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
+    played = jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates)
     obs, env_state = jax.vmap(env.reset_to_level)(played)
     runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
     # --- collect: every environment stays on its level
@@ -352,8 +363,9 @@ def plr_update(
     buffer = jax.lax.cond(
         replay,
         lambda b: plr.rescore(b, slots, score, solve_rate, best, runner.update),
-        lambda b: plr.insert(b, new, score, solve_rate, best, runner.update),
+        lambda b: plr.insert(b, candidates, score, solve_rate, best, runner.update),
         buffer,
     )
     runner = runner.replace(buffer=buffer, update=runner.update + 1)
-    return runner, rollout_metrics(transitions, finished_return, losses) | {"replay": replay.astype(jnp.float32)}
+    modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
+    return runner, rollout_metrics(transitions, finished_return, losses) | modes

@@ -92,7 +92,7 @@ def train(
     network = make_network(config.model, config.env)
     settings, curriculum = config.ppo, config.curriculum
     sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
-    if curriculum.name == "plr":
+    if curriculum.name in ("plr", "accel"):
         update = functools.partial(
             plr_update, env=env, network=network, settings=settings, fresh=fresh, curriculum=curriculum
         )

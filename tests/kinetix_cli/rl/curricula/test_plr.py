@@ -1,5 +1,6 @@
-"""Robust PLR: the replay distribution (rank and staleness), the MaxMC and PVL scores, the buffer's rescoring and
-insertion, and a PLR run that trains only on replays and resumes bit-identically."""
+"""Robust PLR and ACCEL: the replay distribution (rank and staleness), the MaxMC and PVL scores, the buffer's
+rescoring and insertion, and PLR and ACCEL runs that train only on replays (ACCEL also scores mutations) and resume
+bit-identically."""
 
 from __future__ import annotations
 
@@ -91,24 +92,27 @@ class Crash(Exception):
     pass
 
 
-def test_a_plr_run_trains_only_on_replays_and_resumes_bit_identically(tmp_path, tiny_pool):
-    config = tiny_config(*PLR, "ppo.total_timesteps=640")  # 10 updates
-    whole = train(config, tmp_path / "whole", pool=tiny_pool)
+@pytest.mark.parametrize("name", ["plr", "accel"])
+def test_a_plr_run_trains_only_on_replays_and_resumes_bit_identically(tmp_path, tiny_pool, name):
+    config = tiny_config(*PLR, "ppo.total_timesteps=1280", f"curriculum.name={name}", "curriculum.edits=2")
+    whole = train(config, tmp_path / "whole", pool=tiny_pool)  # 20 updates
     records = lines(tmp_path / "whole")
     replays = [r["replay"] for r in records]
     assert replays[:1] == [0.0] and 1.0 in replays, replays  # the buffer fills before the first replay
+    mutations = [r["mutate"] for r in records]
+    assert (1.0 in mutations) == (name == "accel") and not any(r["replay"] and r["mutate"] for r in records)
     for r in records:
         assert (r["loss"] == 0.0) == (r["replay"] == 0.0)  # new levels are scored, not trained on
         assert r["scoring_steps"] == 64 * sum(1 - x["replay"] for x in records if x["update"] <= r["update"])
         assert r["total_steps"] == r["steps"] and r["scoring_share"] == r["scoring_steps"] / r["steps"]
     assert records[-1]["buffer_size"] == 8
 
-    def crash_after_5(record):
-        if record["update"] == 5:
+    def crash_after_13(record):
+        if record["update"] == 13:
             raise Crash
 
     with pytest.raises(Crash):
-        train(config, tmp_path / "cut", pool=tiny_pool, progress=crash_after_5)
+        train(config, tmp_path / "cut", pool=tiny_pool, progress=crash_after_13)
     resumed = train(config, tmp_path / "cut", resume=True, pool=tiny_pool)
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, whole.buffer, resumed.buffer)
