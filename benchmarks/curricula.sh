@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# DR vs SFL vs PLR at equal environment steps (scoring rollouts counted), on fresh levels of one size, SEEDS each;
+# DR vs SFL vs PLR vs ACCEL at equal environment steps (scoring rollouts counted), on fresh levels of one size, SEEDS each;
 # every final policy is evaluated zero-shot with ATTEMPTS sampled episodes per level on the hand-made suites.
 # curricula_summary.py prints the table (mean, spread and every seed) next to random play.
 #
 #   benchmarks/curricula.sh BUDGET OUT_DIR
-#   SIZE=s CURRICULA="dr sfl plr" SEEDS="0 1 2" CONFIG=experiments/cpu-small.yaml ATTEMPTS=20 ENVS=256 (defaults)
+#   SIZE=s CURRICULA="dr sfl plr accel" SEEDS="0 1 2" CONFIG=experiments/cpu-small.yaml ATTEMPTS=20 ENVS=256 (defaults)
 #   SUITES="levels/$SIZE .cache/reference-levels/$SIZE" (make reference-levels fetches the paper's levels)
 #
 # Equal budgets: DR and PLR runs take BUDGET update steps (PLR's updates on new levels, which train nothing, are
 # part of them); an SFL run takes fewer updates, so that its updates plus its scoring rollouts make BUDGET. Every
 # run's metrics.jsonl records total_steps (all environment steps), which the summary checks. DR and SFL play ENVS
-# environments x 32 steps per update; PLR resets all environments each update, so it plays ENVS/8 x 256 steps
+# environments x 32 steps per update; PLR and ACCEL reset all environments each update, so they play ENVS/8 x 256 steps
 # (the same batch; a rollout must hold whole episodes of env.max_steps 256), with a buffer of PLR_BUFFER=512 levels.
 set -euo pipefail
 if [ $# -ne 2 ]; then
@@ -25,12 +25,12 @@ size=${SIZE:-s}
 envs=${ENVS:-256}
 suites=${SUITES:-levels/$size .cache/reference-levels/$size}
 mkdir -p "$out"
-for curriculum in ${CURRICULA:-dr sfl plr}; do
+for curriculum in ${CURRICULA:-dr sfl plr accel}; do
   for seed in ${SEEDS:-0 1 2}; do
     dir=$out/$curriculum-$seed
     [ -f "$dir/eval.json" ] && continue # done in an earlier call
     shape=(--set "ppo.num_envs=$envs" --set ppo.num_steps=32)
-    [ "$curriculum" = plr ] && shape=(--set "ppo.num_envs=$((envs / 8))" --set ppo.num_steps=256
+    [[ "$curriculum" = plr || "$curriculum" = accel ]] && shape=(--set "ppo.num_envs=$((envs / 8))" --set ppo.num_steps=256
       --set "curriculum.buffer_size=${PLR_BUFFER:-512}")
     common=(--config "$config" --set env.size="$size" --set levels.source=fresh --set "curriculum.name=$curriculum"
       --set "run.seed=$seed" --set run.eval_every=0 "${shape[@]}")
