@@ -60,7 +60,7 @@ def test_every_experiment_file_loads_and_has_a_comment_header(path):
 
 def test_the_expected_experiment_files_exist_with_reference_settings():
     names = {p.stem for p in EXPERIMENTS.glob("*.yaml")}
-    assert {"pretrain-s", "pretrain-m", "pretrain-l", "finetune", "cpu-small"} <= names
+    assert {"pretrain-s", "pretrain-m", "pretrain-l", "finetune", "cpu-small", "cpu-plr"} <= names
     budget = 10**12
     reference = PPOSettings(total_timesteps=budget)  # the defaults are the reference's
     for size in "sml":
