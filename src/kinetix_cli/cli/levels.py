@@ -298,7 +298,8 @@ def levels_show(
     out: Path = typer.Option(..., "-o", "--out", help="PNG file to write."),
 ) -> None:
     """Render one level of a set, or a contact sheet of several; with --buffer, the levels of a run's curriculum
-    buffer (latest checkpoint), most learnable first, each with its solve rate when it was scored."""
+    buffer (latest checkpoint), highest score first (SFL: learnability), each with its solve rate and score when it
+    was last played."""
     check_output_file(out, "-o")
     import math
 
@@ -325,6 +326,8 @@ def levels_show(
 
 def _buffer_levels(run: Path, first: int, count: int) -> list:
     """(level, caption) of buffer levels first .. first + count - 1 of a run's latest checkpoint."""
+    import numpy as np
+
     from engine import SIZES
     from kinetix_cli.config import CONFIG_FILENAME, load_config
     from kinetix_cli.env.level import index_level
@@ -339,10 +342,11 @@ def _buffer_levels(run: Path, first: int, count: int) -> list:
     filled = int(buffer.size)
     if not 0 <= first < filled:
         raise UserError(f"--index: {first} is out of range; the buffer holds levels 0..{filled - 1}")
-    return [
-        (index_level(buffer.levels, i), f"#{i} p={buffer.solve_rate[i]:.2f} (update {update})")
-        for i in range(first, min(first + count, filled))
+    order = np.argsort(-np.asarray(buffer.score[:filled]), kind="stable")  # best first (PLR rescores in place)
+    captions = [
+        f"#{i} p={buffer.solve_rate[j]:.2f} score={buffer.score[j]:.3f} (update {update})" for i, j in enumerate(order)
     ]
+    return [(index_level(buffer.levels, order[i]), captions[i]) for i in range(first, min(first + count, filled))]
 
 
 @levels_app.command("sheet")
