@@ -9,7 +9,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from kinetix_cli.cli.console import console
+from kinetix_cli.cli.console import console, say
 
 agents_app = typer.Typer(help="Shipped agents (usable by name: kinetix eval general-s) and agent folders.")
 
@@ -19,7 +19,7 @@ def agents(
     ctx: typer.Context,
     as_json: bool = typer.Option(False, "--json", help="Print the agents' cards as JSON instead of a table."),
 ) -> None:
-    """List the shipped agents: name, version, model, training steps and zero-shot solve rate per suite."""
+    """List the shipped agents: name and version, model, training steps and zero-shot solve rate per suite."""
     if ctx.invoked_subcommand is not None:
         return
     from kinetix_cli.rl.agents import shipped_agents
@@ -31,23 +31,21 @@ def agents(
     if not agents:
         console.print("no shipped agents are installed")
         return
-    table = Table("agent", "version", "model", "trained", "zero-shot solve rate")
     for card, config in agents:
         evaluation = card.evaluation
-        scores = ", ".join(
-            f"{suite}: {row['solve_rate']:.1%} of {row['levels']} levels"
-            for suite, row in evaluation.get("suites", {}).items()
-        )
-        scores = f"{scores} ({evaluation['attempts']} attempts each)" if scores else "not evaluated"
-        trained = f"{card.trained.get('steps', 0):,} env steps"
-        table.add_row(card.name, str(card.version), _model(config), trained, scores)
-    console.print(table)
+        attempts = f", {evaluation['attempts']} attempts per level" if "attempts" in evaluation else ""
+        steps = card.trained.get("steps", 0)
+        say((f"{card.name} v{card.version}", "bold"), f": {_model(config)}, {steps:,} env steps; zero-shot{attempts}")
+        table = Table("suite", "levels", "solve rate")
+        for suite, row in evaluation.get("suites", {}).items():
+            table.add_row(suite, str(row["levels"]), f"{row['solve_rate']:.1%}")
+        console.print(table if table.rows else "  not evaluated")
 
 
 def _model(config) -> str:
     """One line on an agent's model and what it sees."""
     model, env = config.model, config.env
-    return f"{model.name} width {model.width}, {env.observation}, trained on size {env.size}"
+    return f"{model.name} width {model.width}, {env.observation}, size {env.size}"
 
 
 @agents_app.command("export")

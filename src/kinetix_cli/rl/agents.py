@@ -27,7 +27,7 @@ from flax import serialization
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
 from kinetix_cli.constants import AGENT_FORMAT, EVAL_FORMAT
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write_json, check_output_dir, read_format
+from kinetix_cli.io import atomic_write_json, check_output_dir, current_umask, read_format
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
 from kinetix_cli.rl.networks import params_fit
@@ -171,6 +171,7 @@ def export_agent(
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
     try:
+        staging.chmod(0o777 & ~current_umask())  # mkdtemp makes it private; the agent folder is an ordinary one
         for file, b in data.items():
             (staging / file).write_bytes(b)
         atomic_write_json(staging / AGENT_FILE, card, AGENT_FORMAT)
