@@ -50,13 +50,16 @@ demo: $(STAMP)
 	$(BIN)/kinetix levels show demo-out/levels-s --grid 16 -o demo-out/levels-s.png
 	$(BIN)/kinetix pretrain --config experiments/cpu-small.yaml --run-dir demo-out/pretrain --levels demo-out/levels-s
 	$(BIN)/kinetix eval demo-out/pretrain --levels levels/s --json demo-out/eval-pretrain.json
-	$(BIN)/kinetix finetune $(DEMO_LEVEL) --from demo-out/pretrain --run-dir demo-out/finetune \
+	$(BIN)/kinetix agents
+	$(BIN)/kinetix eval general-s --levels $(DEMO_LEVEL) --json demo-out/eval-general-s.json
+	$(BIN)/kinetix finetune $(DEMO_LEVEL) --from general-s --run-dir demo-out/finetune \
 		--config experiments/cpu-small.yaml --set ppo.total_timesteps=200000
 	$(BIN)/kinetix eval demo-out/finetune --levels $(DEMO_LEVEL) --json demo-out/eval-finetune.json
 	$(BIN)/kinetix rollout $(DEMO_LEVEL) --policy demo-out/finetune -o demo-out/finetuned.gif
 	@echo "demo outputs in demo-out/: level.png and rollout.gif (a hand-made level and its solution),"
 	@echo "  levels-s/ and levels-s.png (1024 generated levels), pretrain/ and finetune/ (runs: config, metrics,"
-	@echo "  checkpoints), eval-pretrain.json and eval-finetune.json (solve rates), finetuned.gif (the tuned agent)"
+	@echo "  checkpoints; finetune starts from the shipped agent general-s), eval-pretrain.json, eval-general-s.json"
+	@echo "  (general-s zero-shot) and eval-finetune.json (solve rates), finetuned.gif (the tuned agent)"
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests
