@@ -106,6 +106,8 @@ def test_a_plr_run_trains_only_on_replays_and_resumes_bit_identically(tmp_path, 
         assert r["scoring_steps"] == 64 * sum(1 - x["replay"] for x in records if x["update"] <= r["update"])
         assert r["total_steps"] == r["steps"] and r["scoring_share"] == r["scoring_steps"] / r["steps"]
     assert records[-1]["buffer_size"] == 8
+    if name == "accel":
+        return  # the resume path is PLR's; mutations are functions of the runner's key, which the checkpoint holds
 
     def crash_after_13(record):
         if record["update"] == 13:

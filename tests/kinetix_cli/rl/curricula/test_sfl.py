@@ -87,8 +87,7 @@ def test_scoring_counts_the_episodes_of_every_copy_of_a_level(tiny_pool):
         network=network,
         steps=8,
     )
-    for attempts in (1, 3):
-        solved, ended = map(np.asarray, count(attempts=attempts))
-        assert solved.shape == ended.shape == (2,)  # one count per level, copies summed
-        assert (ended >= 2 * attempts).all() and (ended <= 8 * attempts).all()
-        assert (solved >= 0).all() and (solved <= ended).all()
+    solved, ended = map(np.asarray, count(attempts=3))
+    assert solved.shape == ended.shape == (2,)  # one count per level, the 3 copies summed
+    assert (ended >= 2 * 3).all() and (ended <= 8 * 3).all()  # one copy alone ends 2 to 8 episodes
+    assert (solved >= 0).all() and (solved <= ended).all()
