@@ -139,7 +139,9 @@ class PPOSettings:
         gamma: discount per environment step.
         gae_lambda: GAE lambda.
         clip_eps: PPO ratio clip (also clips the value update).
-        ent_coef: weight of the entropy bonus in the loss.
+        ent_coef: weight of the entropy bonus in the loss (at the first update, with `ent_coef_end`).
+        ent_coef_end: null keeps `ent_coef` for the whole run; a number makes the weight move linearly from
+            `ent_coef` at the first update to this at the last (fine-tuning: explore first, then settle).
         vf_coef: weight of the value loss.
         lr: Adam learning rate (the start value when anneal_lr).
         adam_eps: Adam epsilon.
@@ -158,6 +160,7 @@ class PPOSettings:
     gae_lambda: float = 0.9
     clip_eps: float = 0.2
     ent_coef: float = 0.01
+    ent_coef_end: float | None = None
     vf_coef: float = 0.5
     lr: float = 5e-5
     adam_eps: float = 1e-5
@@ -176,6 +179,8 @@ class PPOSettings:
             _within(self, name, 0, high, low_excluded=True)
         for name in ("ent_coef", "vf_coef"):
             _within(self, name, 0, 1000)
+        if self.ent_coef_end is not None:
+            _within(self, "ent_coef_end", 0, 1000)
         batch = f"num_envs * num_steps = {self.num_envs} * {self.num_steps} = {self.batch_size}"
         _require(
             self, "num_minibatches", self.batch_size % self.num_minibatches == 0, f"{batch} is not divisible by it"

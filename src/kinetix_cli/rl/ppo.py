@@ -106,7 +106,16 @@ def gae(transitions: Transition, gamma: float, gae_lambda: float) -> tuple[jax.A
     return advantages, advantages + transitions.value
 
 
-def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings: PPOSettings):
+def entropy_weight(settings: PPOSettings, update: jax.Array) -> jax.Array | float:
+    """The entropy bonus's weight at `update`: `ent_coef`, or with `ent_coef_end` the linear way between them
+    over the run's updates."""
+    if settings.ent_coef_end is None:
+        return settings.ent_coef
+    done = jnp.minimum(update, settings.num_updates - 1) / max(settings.num_updates - 1, 1)
+    return settings.ent_coef + (settings.ent_coef_end - settings.ent_coef) * done
+
+
+def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings: PPOSettings, ent_coef):
     """Clipped policy loss + vf_coef * clipped value loss - ent_coef * entropy, and its parts."""
     dist, value = apply_fn(params, batch.obs)
     log_prob = dist.log_prob(batch.action)
@@ -118,7 +127,7 @@ def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings:
     value_clipped = batch.value + jnp.clip(value - batch.value, -settings.clip_eps, settings.clip_eps)
     value_loss = 0.5 * jnp.maximum((value - targets) ** 2, (value_clipped - targets) ** 2).mean()
     entropy = dist.entropy().mean()
-    total = policy_loss + settings.vf_coef * value_loss - settings.ent_coef * entropy
+    total = policy_loss + settings.vf_coef * value_loss - ent_coef * entropy
     approx_kl = ((ratio - 1.0) - jnp.log(ratio)).mean()
     return total, {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
 
@@ -242,12 +251,13 @@ def learn(
     the runner with new parameters, optimiser state and key, and the losses (update_epochs, num_minibatches)."""
     optimizer = make_optimizer(settings)
     batch_size = settings.batch_size
+    ent_coef = entropy_weight(settings, runner.update)
 
     def update_minibatch(train, minibatch):
         params, opt_state = train
         batch, advantages, targets = minibatch
         grad_fn = jax.value_and_grad(ppo_loss, argnums=1, has_aux=True)
-        (loss, parts), grads = grad_fn(network.apply, params, batch, advantages, targets, settings)
+        (loss, parts), grads = grad_fn(network.apply, params, batch, advantages, targets, settings, ent_coef)
         updates, opt_state = optimizer.update(grads, opt_state, params)
         return (optax.apply_updates(params, updates), opt_state), dict(parts, loss=loss)
 

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 from kinetix_cli.config import PPOSettings
-from kinetix_cli.rl.ppo import Transition, gae, ppo_loss
+from kinetix_cli.rl.ppo import Transition, entropy_weight, gae, ppo_loss
 
 
 def _transitions(terminated, done):
@@ -84,9 +86,17 @@ def test_clipped_losses_by_hand():
     new = _FixedDist(jnp.log(jnp.array([0.8, 0.2])), jnp.array([1.0, 1.0]))
     apply_fn = lambda params, obs: (new, jnp.array([2.0, 0.5]))  # noqa: E731
     advantages, targets = jnp.array([1.0, -1.0]), jnp.array([1.5, 1.5])
-    total, parts = ppo_loss(apply_fn, None, batch, advantages, targets, hp)
+    total, parts = ppo_loss(apply_fn, None, batch, advantages, targets, hp, entropy_weight(hp, jnp.asarray(0)))
     # policy: -mean(min(1.6 * 1, 1.2 * 1), min(0.4 * -1, 0.8 * -1)) = -mean(1.2, -0.8) = -0.2
     assert float(parts["policy_loss"]) == pytest.approx(-0.2, rel=1e-5)
     # value: clipped values 1.2 and 0.8; losses max((2-1.5)^2, (1.2-1.5)^2) = 0.25, max(1, 0.49) = 1 -> 0.5 * 0.625
     assert float(parts["value_loss"]) == pytest.approx(0.3125, rel=1e-5)
     assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5)
+
+
+def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():
+    constant = PPOSettings(num_envs=2, num_steps=2, num_minibatches=1, total_timesteps=44, ent_coef=0.05)  # 11 updates
+    assert entropy_weight(constant, jnp.asarray(7)) == 0.05
+    decaying = dataclasses.replace(constant, ent_coef_end=0.01)
+    weights = [float(entropy_weight(decaying, jnp.asarray(u))) for u in (0, 5, 10, 12)]
+    assert weights == pytest.approx([0.05, 0.03, 0.01, 0.01])
