@@ -84,9 +84,16 @@ def read_card(folder: str | Path) -> AgentCard:
     for field, kind in expected.items():
         if not isinstance(card.get(field), kind) or isinstance(card.get(field), bool):
             raise UserError(f"{file}: {field}: expected {kind.__name__}, got {card.get(field)!r}")
+    if set(card["files"]) != {CONFIG_FILENAME, PARAMS_FILE}:
+        raise UserError(
+            f"{file}: files: expected the sha256 of {CONFIG_FILENAME} and {PARAMS_FILE}, got {card['files']}"
+        )
     for name in (CONFIG_FILENAME, PARAMS_FILE):
         if not isinstance(card["files"].get(name), str):
-            raise UserError(f"{file}: files.{name}: missing (the sha256 of the agent's {name})")
+            raise UserError(f"{file}: files.{name}: expected a sha256 string, got {card['files'].get(name)!r}")
+    update = card["trained"].get("update", 0)
+    if not isinstance(update, int) or isinstance(update, bool) or update < 0:
+        raise UserError(f"{file}: trained.update: expected an update count, got {update!r}")
     return AgentCard(Path(folder), **{k: card[k] for k in expected})
 
 

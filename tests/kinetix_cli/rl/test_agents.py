@@ -88,6 +88,15 @@ def test_unknown_names_and_damaged_agents_are_one_line(capsys, shipped, tmp_path
     card = json.loads((shipped / "agent.json").read_text())
     (damaged / "agent.json").write_text(json.dumps(card | {"version": "two"}))
     assert "agent.json: version: expected int, got 'two'" in kinetix(capsys, "eval", damaged).error_line
+    (damaged / "agent.json").write_text(json.dumps(card | {"trained": {"update": "six"}}))
+    assert (
+        "agent.json: trained.update: expected an update count, got 'six'" in kinetix(capsys, "eval", damaged).error_line
+    )
+    (damaged / "agent.json").write_text(json.dumps(card | {"files": {**card["files"], "../x": "0"}}))
+    assert (
+        "agent.json: files: expected the sha256 of config.yaml and params.msgpack"
+        in kinetix(capsys, "eval", damaged).error_line
+    )
     (damaged / "agent.json").write_text(json.dumps(card | {"format": "kinetix-agent/9"}))
     assert "format: expected 'kinetix-agent/1', got 'kinetix-agent/9'" in kinetix(capsys, "eval", damaged).error_line
 
