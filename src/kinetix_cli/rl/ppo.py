@@ -351,7 +351,8 @@ def plr_update(
     candidates = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
     if accel:
         edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
-        mutated = jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)
+        mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
+        mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
         candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
     played = jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates)
     obs, env_state = jax.vmap(env.reset_to_level)(played)
