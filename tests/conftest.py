@@ -1,11 +1,11 @@
 """Pytest configuration. Helpers live in tests/helpers (on the path): sim.py shares compiled engine rollouts,
-runs.py the tiny training run, whose pool and finished run directory are session fixtures here."""
+runs.py the tiny training runs, whose pool and finished run directories are session fixtures here."""
 
 from __future__ import annotations
 
 import pytest
 
-from helpers.runs import tiny_config
+from helpers.runs import sfl_config, tiny_config
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
@@ -22,3 +22,12 @@ def tiny_run(tmp_path_factory, tiny_pool):
     run_dir = tmp_path_factory.mktemp("runs") / "tiny"
     train(tiny_config(), run_dir, pool=tiny_pool)
     return run_dir
+
+
+@pytest.fixture(scope="session")
+def sfl_run(tmp_path_factory):
+    """The finished tiny SFL run on `LEARN_LEVEL` (300 updates, checkpoints 100, 200, 300): its `TrainResult` and
+    run directory."""
+    config = sfl_config()
+    run_dir = tmp_path_factory.mktemp("runs") / "sfl"
+    return train(config, run_dir, pool=level_pool(config)), run_dir

@@ -3,7 +3,7 @@ values) reuses one compiled PPO update and one compiled evaluator per session.""
 
 from __future__ import annotations
 
-from helpers.paths import EXPERIMENTS
+from helpers.paths import EXPERIMENTS, REFERENCE_LEVELS
 from kinetix_cli.config import ExperimentConfig, load_config
 
 TRAIN_LEVELS = ["levels/s/rocket-car-jump.json", "levels/s/pad-to-pad.json"]
@@ -30,6 +30,29 @@ TINY = [
 def tiny_config(*overrides: str) -> ExperimentConfig:
     """experiments/cpu-small.yaml with `TINY` and then `overrides` applied."""
     return load_config(EXPERIMENTS / "cpu-small.yaml", [*TINY, *overrides])
+
+
+LEARN_LEVEL = REFERENCE_LEVELS / "s" / "h3_point_the_thruster.json"  # PPO from scratch: ~100% within 20K steps
+SFL = [
+    "curriculum.name=sfl",
+    "curriculum.score_levels=8",
+    "curriculum.score_batch=4",
+    "curriculum.score_steps=16",
+    "curriculum.score_attempts=2",
+    "curriculum.buffer_size=4",
+    "curriculum.refresh_every=2",
+    "curriculum.buffer_share=0.5",
+    f"levels.files=[{LEARN_LEVEL}, {LEARN_LEVEL}]",  # two copies: the tiny run's pool shape, so its compiles are shared
+    "ppo.total_timesteps=19200",  # 300 updates of 8 envs x 8 steps
+    "run.checkpoint_every=100",
+    "run.eval_every=0",
+]
+"""`--set` values of the tiny SFL run, on top of `TINY`: the learning smoke test and the SFL run tests share it."""
+
+
+def sfl_config(*overrides: str) -> ExperimentConfig:
+    """The tiny SFL run's configuration (`TINY`, `SFL`, then `overrides`)."""
+    return tiny_config(*SFL, *overrides)
 
 
 def set_args(overrides: list[str]) -> list[str]:

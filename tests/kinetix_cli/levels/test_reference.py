@@ -82,7 +82,7 @@ def _random_steps(env: KinetixEnv, levels, key):
     return jax.vmap(one)(levels, keys)
 
 
-@pytest.mark.parametrize("size", ["s", "m", "l"])
+@pytest.mark.parametrize("size", ["s", "m", pytest.param("l", marks=pytest.mark.slow)])  # l: 12 s of compile
 def test_reference_levels_step_256_random_steps_without_nan(size):
     files, specs = converted(size)
     finite = np.asarray(

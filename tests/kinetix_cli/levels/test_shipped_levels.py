@@ -37,7 +37,7 @@ def test_suite_is_complete_and_valid(size):
         assert spec.solution is not None, f"{path}: ships no solution"
 
 
-@pytest.mark.parametrize("size", ["s", "m", "l"])
+@pytest.mark.parametrize("size", ["s", "m", pytest.param("l", marks=pytest.mark.slow)])  # l: 12 s of compile
 def test_solutions_solve_and_noop_does_not(size):
     specs = [load_level(path) for path in level_files(size)]
     if not specs:

@@ -11,24 +11,13 @@ import numpy as np
 import pytest
 
 from helpers.cli import kinetix
-from helpers.runs import tiny_config
+from helpers.runs import sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.curricula.sfl import episode_counts
 from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.ppo import init_runner
 from kinetix_cli.rl.train import train
-
-SFL = [
-    "curriculum.name=sfl",
-    "curriculum.score_levels=8",
-    "curriculum.score_batch=4",
-    "curriculum.score_steps=16",
-    "curriculum.score_attempts=2",
-    "curriculum.buffer_size=4",
-    "curriculum.refresh_every=2",
-    "curriculum.buffer_share=0.5",
-    "run.eval_every=0",
-]
 
 
 class Crash(Exception):
@@ -39,11 +28,11 @@ def lines(run_dir):
     return [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in (run_dir / "metrics.jsonl").open()]
 
 
-def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys, tmp_path, tiny_pool):
-    config = tiny_config(*SFL)
-    whole = train(config, tmp_path / "whole", pool=tiny_pool)
-    records = lines(tmp_path / "whole")
-    assert [r["scoring_steps"] for r in records] == [256, 256, 512, 512, 768, 768]  # before 1, 3 and 5
+def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys, tmp_path, sfl_run):
+    whole, run_dir = sfl_run
+    records = lines(run_dir)
+    assert len(records) == 300
+    assert [r["scoring_steps"] for r in records] == [256 * ((u + 1) // 2) for u in range(1, 301)]  # before odd updates
     assert records[0]["scoring_share"] == pytest.approx(256 / (256 + 64))  # 8 levels x 2 attempts x 16 steps
     assert all(r["buffer_size"] == 4 and 0 <= r["buffer_score"] <= 0.25 for r in records)
     assert all(r["buffer_solve_p10"] <= r["buffer_solve_p50"] <= r["buffer_solve_p90"] for r in records)
@@ -51,19 +40,20 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
     np.testing.assert_allclose(scores, whole.buffer.solve_rate * (1 - whole.buffer.solve_rate), rtol=1e-6)
     assert (np.diff(scores) <= 0).all(), "best first"
 
-    def crash_after_3(record):
-        if record["update"] == 3:
+    def crash_after_150(record):
+        if record["update"] == 150:
             raise Crash
 
+    config, pool = sfl_config(), level_pool(sfl_config())
     with pytest.raises(Crash):
-        train(config, tmp_path / "cut", pool=tiny_pool, progress=crash_after_3)
-    resumed = train(config, tmp_path / "cut", resume=True, pool=tiny_pool)  # from checkpoint 2, buffer included
+        train(config, tmp_path / "cut", pool=pool, progress=crash_after_150)
+    resumed = train(config, tmp_path / "cut", resume=True, pool=pool)  # from checkpoint 100, buffer included
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, whole.buffer, resumed.buffer)
     assert lines(tmp_path / "cut") == records
 
     sheet = tmp_path / "buffer.png"
-    result = kinetix(capsys, "levels", "show", tmp_path / "whole", "--buffer", "--grid", "4", "-o", sheet)
+    result = kinetix(capsys, "levels", "show", run_dir, "--buffer", "--grid", "4", "-o", sheet)
     assert result.code == 0 and "4 buffer levels" in result.out and sheet.read_bytes()[:4] == b"\x89PNG"
 
 
