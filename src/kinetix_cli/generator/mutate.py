@@ -1,12 +1,15 @@
 """ACCEL's level edits: `mutate_level(static, key, level, edits) -> Level`, pure and jittable.
 
-Each edit is one of (uniformly): move a shape, rotate a shape, resize a free shape, swap the roles of two shapes,
-toggle a shape's fixation, add a thruster, remove a thruster. A shape moves and rotates together with every shape
+Each edit is one of (uniformly): add a free shape, add a shape joined to an existing one, move a shape, rotate a
+shape, resize a free shape, swap the roles of two shapes, toggle a shape's fixation, add a thruster, remove a
+thruster (the reference's list). Added shapes come from the generator's own additions (`sampler.add_free_shape`,
+`sampler.add_connected_shape`: best of several proposals, the size's distribution), after which the slots are
+shuffled again as a generated level's are. A shape moves and rotates together with every shape
 joined to it (its joint-connected group), so joints stay closed; resizing is limited to shapes without joints (a
 joint anchor would no longer sit where the other body holds it), and a thruster on a resized shape keeps its
 place relative to the outline. An edit that leaves the level invalid (`sampler.is_valid`: green and blue present, a
 working actuator, no deep overlap) or that finds nothing to edit is dropped, so every mutation of a valid level
-is valid. Of the reference's edits, adding a free or a connected shape is not implemented yet.
+is valid.
 """
 
 from __future__ import annotations
@@ -16,12 +19,23 @@ import math
 import jax
 import jax.numpy as jnp
 
-from engine import ARENA_TOP, FLOOR_TOP, NUM_ARENA_POLYGONS, Static, rotate
+from engine import ARENA_TOP, FLOOR_TOP, NUM_ARENA_POLYGONS, SIZES, Static, rotate
 from kinetix_cli.constants import NUM_THRUSTER_BINDINGS
 from kinetix_cli.env.level import Level
+from kinetix_cli.generator import sampler
 from kinetix_cli.generator.sampler import WORLD, SamplerConfig, Shape, is_valid
 
-EDITS = ("move", "rotate", "resize", "swap roles", "toggle fixation", "add thruster", "remove thruster")
+EDITS = (
+    "add free shape",
+    "add joined shape",
+    "move",
+    "rotate",
+    "resize",
+    "swap roles",
+    "toggle fixation",
+    "add thruster",
+    "remove thruster",
+)
 """The edit kinds, in the order `edit_level` indexes them."""
 MOVE_STD = 0.3
 """Standard deviation of a move, each axis [m]."""
@@ -51,6 +65,44 @@ def pick(key: jax.Array, mask: jax.Array) -> tuple[jax.Array, jax.Array]:
     """(a uniformly chosen index where `mask`, whether there was any)."""
     index = jax.random.choice(key, mask.shape[0], p=mask / jnp.maximum(mask.sum(), 1))
     return index, jnp.any(mask)
+
+
+def distribution(static: Static) -> SamplerConfig:
+    """The generator's distribution for levels of size `static` (the reference's defaults for other sizes)."""
+    names = [name for name, size in SIZES.items() if size == static]
+    return sampler.default_config(names[0]) if names else SamplerConfig()
+
+
+def add_shape(static: Static, key: jax.Array, level: Level, joined: bool) -> tuple[Level, jax.Array]:
+    """A new shape where the generator would put one: free, or `joined` to an existing shape (revolute or fixed
+    joint, maybe a motor). Found: whether a slot (and for a joined shape a joint) was free and a proposal fitted."""
+    k_add, k_shuffle = jax.random.split(key)
+    level = sampler.compact_slots(static, level)
+    active = level.physics.bodies.active
+    draft = sampler.Draft(
+        level,
+        polygons=jnp.sum(active[NUM_ARENA_POLYGONS : static.num_polygons]).astype(jnp.int32),
+        circles=jnp.sum(active[static.num_polygons :]).astype(jnp.int32),
+        joints=jnp.sum(level.physics.joints.active).astype(jnp.int32),
+        thrusters=jnp.sum(level.physics.thrusters.active).astype(jnp.int32),
+    )
+    config = distribution(static)
+    if joined:
+        added = sampler.add_connected_shape(static, config, k_add, draft, shapes(level))
+    else:
+        added = sampler.add_free_shape(static, config, k_add, draft)
+    found = added.polygons + added.circles > draft.polygons + draft.circles
+    return sampler.shuffle_slots(static, k_shuffle, added.level), found
+
+
+def add_free_shape(static: Static, key: jax.Array, level: Level) -> tuple[Level, jax.Array]:
+    """A new free shape (`add_shape`)."""
+    return add_shape(static, key, level, joined=False)
+
+
+def add_joined_shape(static: Static, key: jax.Array, level: Level) -> tuple[Level, jax.Array]:
+    """A new shape joined to an existing one (`add_shape`)."""
+    return add_shape(static, key, level, joined=True)
 
 
 def move(static: Static, key: jax.Array, level: Level) -> tuple[Level, jax.Array]:
@@ -155,7 +207,17 @@ def remove_thruster(static: Static, key: jax.Array, level: Level) -> tuple[Level
     return level.replace(physics=level.physics.replace(thrusters=th)), found
 
 
-_EDIT_FUNCTIONS = (move, rotate_group, resize, swap_roles, toggle_fixation, add_thruster, remove_thruster)
+_EDIT_FUNCTIONS = (
+    add_free_shape,
+    add_joined_shape,
+    move,
+    rotate_group,
+    resize,
+    swap_roles,
+    toggle_fixation,
+    add_thruster,
+    remove_thruster,
+)
 
 
 def edit_level(static: Static, key: jax.Array, level: Level) -> Level:

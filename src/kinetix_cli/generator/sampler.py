@@ -441,24 +441,46 @@ def swap_green_blue(level: Level, swap: jax.Array) -> Level:
 
 
 def shuffle_slots(static: Static, key: jax.Array, level: Level) -> Level:
-    """Permute the non-arena polygon slots, the circle slots, the joints and the thrusters, keeping every
+    """Permute the non-arena polygon slots, the circle slots, the joints and the thrusters at random, keeping every
     joint and thruster attached to the same bodies."""
     k_poly, k_circle, k_joint, k_thruster = jax.random.split(key, 4)
     p, c = static.num_polygons, static.num_circles
+    return permute_slots(
+        static,
+        level,
+        jax.random.permutation(k_poly, p - NUM_ARENA_POLYGONS),
+        jax.random.permutation(k_circle, c),
+        jax.random.permutation(k_joint, static.num_joints),
+        jax.random.permutation(k_thruster, static.num_thrusters),
+    )
+
+
+def compact_slots(static: Static, level: Level) -> Level:
+    """Move the active polygons, circles, joints and thrusters to the front of their slot ranges (in their order),
+    as the recipe leaves a draft before `shuffle_slots`, so that `Draft` counts name the next free slots."""
+    active = level.physics.bodies.active
+    first_inactive = lambda mask: jnp.argsort(~mask, stable=True)  # noqa: E731
+    return permute_slots(
+        static,
+        level,
+        first_inactive(active[NUM_ARENA_POLYGONS : static.num_polygons]),
+        first_inactive(active[static.num_polygons :]),
+        first_inactive(level.physics.joints.active),
+        first_inactive(level.physics.thrusters.active),
+    )
+
+
+def permute_slots(static: Static, level: Level, polygons, circles, joint_order, thruster_order) -> Level:
+    """Reorder the non-arena polygon slots, the circle slots, the joints and the thrusters (each an int permutation
+    of its range, new slot -> old slot), keeping every joint and thruster attached to the same bodies."""
     order = jnp.concatenate(
-        [
-            jnp.arange(NUM_ARENA_POLYGONS),
-            NUM_ARENA_POLYGONS + jax.random.permutation(k_poly, p - NUM_ARENA_POLYGONS),
-            p + jax.random.permutation(k_circle, c),
-        ]
+        [jnp.arange(NUM_ARENA_POLYGONS), NUM_ARENA_POLYGONS + polygons, static.num_polygons + circles]
     )
     new_slot = jnp.argsort(order)  # old body slot -> new body slot
     physics = level.physics
     bodies = jax.tree.map(lambda x: x[order], physics.bodies)
-    joint_order = jax.random.permutation(k_joint, static.num_joints)
     joints = jax.tree.map(lambda x: x[joint_order], physics.joints)
     joints = joints.replace(body_a=new_slot[joints.body_a], body_b=new_slot[joints.body_b])
-    thruster_order = jax.random.permutation(k_thruster, static.num_thrusters)
     thrusters = jax.tree.map(lambda x: x[thruster_order], physics.thrusters)
     thrusters = thrusters.replace(body=new_slot[thrusters.body])
     bindings = Bindings(

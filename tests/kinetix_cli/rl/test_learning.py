@@ -24,4 +24,5 @@ def test_a_small_sfl_run_learns_a_level_from_scratch(sfl_run):
     evaluator = Evaluator(config, [LEARN_LEVEL], attempts=64)
     before = evaluator(start.params, seed=1)[0].solve_rate
     after = evaluator(trained.params, seed=1)[0].solve_rate
-    assert after >= before + 0.3, (before, after)  # measured here: 39% before, 97% after (64 attempts each)
+    # measured here (64 attempts each): 39% -> 97%; with run.seed 1 and 2: 38% -> 78%, 66% at the end; lr 1e-9: +0
+    assert after >= before + 0.2, (before, after)
