@@ -348,7 +348,8 @@ def plr_update(
     mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
     slots = plr.sample_replay(buffer, k_replay, n, runner.update, curriculum)
     buffered = index_level(buffer.levels, slots)
-    candidates = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
+    new = lambda: fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)  # noqa: E731
+    candidates = jax.lax.cond(replay, lambda: buffered, new)  # a replay round samples no new levels
     if accel:
         edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
         mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
