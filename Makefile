@@ -5,6 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-dev
 CMP_STAMP := $(VENV)/.installed-compare
 PYTEST_FLAGS ?=
+TEST_WORKERS ?= 2  # pytest-xdist processes for `make test` (each compiles its own session fixtures)
 
 .PHONY: demo test test-all lint format bench clean reference-levels
 
@@ -71,7 +72,7 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests
 
 test: lint reference-levels $(CMP_STAMP)
-	$(BIN)/pytest -m "not slow" --durations=15 $(PYTEST_FLAGS)
+	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --durations=15 $(PYTEST_FLAGS)
 
 test-all: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)
