@@ -76,7 +76,9 @@ REFERENCE_BREAKS = [
 ]
 
 
-@pytest.mark.parametrize(("breaks", "message"), REFERENCE_BREAKS, ids=lambda x: str(x)[:30])
+@pytest.mark.parametrize(
+    ("breaks", "message"), REFERENCE_BREAKS, ids=lambda x: x[:30] if isinstance(x, str) else "edit"
+)
 def test_reference_files_with_missing_or_mistyped_fields(capsys, tmp_path, breaks, message):
     data = json.loads((REFERENCE_LEVELS / "s" / "h2_one_wheel_car.json").read_text())
     breaks(data)

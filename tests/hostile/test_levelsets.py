@@ -64,7 +64,7 @@ MANIFEST_BREAKS = [
 ]
 
 
-@pytest.mark.parametrize(("breaks", "message"), MANIFEST_BREAKS, ids=lambda x: str(x)[:30])
+@pytest.mark.parametrize(("breaks", "message"), MANIFEST_BREAKS, ids=lambda x: x[:30] if isinstance(x, str) else "edit")
 def test_a_broken_manifest_is_one_line_in_every_command(capsys, tmp_path, levelset, breaks, message):
     manifest = json.loads((levelset / "manifest.json").read_text())
     breaks(manifest)
