@@ -40,9 +40,8 @@ for curriculum in ${CURRICULA:-dr sfl plr accel}; do
     else
       "$kinetix" pretrain --run-dir "$dir" "${common[@]}" --set "ppo.total_timesteps=$steps"
     fi
-    levels=()
-    for suite in $suites; do levels+=(--levels "$suite"); done
-    "$kinetix" eval "$dir" "${levels[@]}" --attempts "${ATTEMPTS:-20}" --seed 1000 --json "$dir/eval.json"
+    # shellcheck disable=SC2086 # suites are space-separated folders
+    "$(dirname "$0")/zero_shot.sh" "$dir" $suites
   done
 done
 "$python" "$(dirname "$0")/curricula_summary.py" "$out"

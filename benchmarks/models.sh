@@ -36,9 +36,8 @@ for entry in $entries; do
       --set "ppo.num_envs=${ENVS:-256}" --set ppo.num_steps=32 --set "ppo.total_timesteps=$steps" \
       --set "run.seed=$seed" --set run.eval_every=0
     echo "$(($(date +%s) - start))" >"$dir/wall_seconds"
-    levels=()
-    for suite in $suites; do levels+=(--levels "$suite"); done
-    "$kinetix" eval "$dir" "${levels[@]}" --attempts "${ATTEMPTS:-20}" --seed 1000 --json "$dir/eval.json"
+    # shellcheck disable=SC2086 # suites are space-separated folders
+    "$(dirname "$0")/zero_shot.sh" "$dir" $suites
   done
 done
 "$python" "$(dirname "$0")/curricula_summary.py" "$out"
