@@ -2,23 +2,28 @@
 
 from __future__ import annotations
 
+import pytest
+
 from helpers.cli import kinetix
 from kinetix_cli.config import CONFIG_FILENAME
 from kinetix_cli.rl import agents
 
 
-def test_general_s_is_shipped_with_its_commands_and_evaluation():
-    assert "general-s" in agents.shipped_names()
-    config, params, update = agents.load_policy("general-s")  # checksums verified, parameters fit the model
-    card = agents.read_card(agents.SHIPPED / "general-s")
-    assert config.env.size == "s" and update == card.trained["update"] > 0
+@pytest.mark.parametrize("size", ["s", "m", "l"])
+def test_a_general_agent_per_size_is_shipped_with_its_commands_and_evaluation(size):
+    name = f"general-{size}"
+    assert name in agents.shipped_names()
+    config, params, update = agents.load_policy(name)  # checksums verified, parameters fit the model
+    card = agents.read_card(agents.SHIPPED / name)
+    assert config.env.size == size and update == card.trained["update"] > 0
     assert any(c.startswith("kinetix pretrain") for c in card.trained["commands"])
     assert card.evaluation["attempts"] >= 20
-    assert {"levels/s", ".cache/reference-levels/s"} <= set(card.evaluation["suites"])
-    files = {p.name: p.stat().st_size for p in (agents.SHIPPED / "general-s").iterdir()}
+    assert {f"levels/{size}", f".cache/reference-levels/{size}"} <= set(card.evaluation["suites"])
+    files = {p.name: p.stat().st_size for p in (agents.SHIPPED / name).iterdir()}
     assert set(files) == {"agent.json", CONFIG_FILENAME, "params.msgpack"} and sum(files.values()) < 5_000_000
 
 
-def test_kinetix_agents_lists_general_s_with_its_scores(capsys):
+def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
     result = kinetix(capsys, "agents")
-    assert result.code == 0 and "general-s" in result.out and "levels/s" in result.out
+    assert result.code == 0 and "levels/s" in result.out
+    assert all(f"general-{size}" in result.out for size in "sml")
