@@ -13,7 +13,7 @@ import pytest
 import engine
 from engine import NUM_ARENA_POLYGONS, SIZES, Params, rotate
 from kinetix_cli.constants import BLUE, GREEN, RED
-from kinetix_cli.generator.sampler import default_config, is_valid, sample_level
+from kinetix_cli.generator.sampler import compact_slots, default_config, is_valid, sample_level
 
 BATCH = 64
 
@@ -96,3 +96,42 @@ def test_generated_scenes_simulate_without_nan(size):
     for _ in range(60):
         physics, _ = step(physics, actions)
     assert np.isfinite(np.asarray(physics.bodies.position)).all()
+
+
+def test_compacting_slots_puts_active_ones_first_and_keeps_attachments(tiny_pool):
+    """`compact_slots` (ACCEL's additions start from it) is a permutation: active bodies, joints and thrusters move to
+    the front of their ranges, and every joint and thruster still holds the bodies it held."""
+    static = SIZES["s"]
+    level = jax.tree.map(lambda x: x[0], tiny_pool)  # rocket-car-jump: a car (joint 0) with a thruster
+    wheel = int(level.physics.joints.body_b[0])  # take the wheel out: a gap before the last circle slot
+    level = level.replace(
+        physics=level.physics.replace(
+            bodies=level.physics.bodies.replace(active=level.physics.bodies.active.at[wheel].set(False))
+        )
+    )
+    compact = compact_slots(static, level)
+
+    def front_first(active):
+        active = np.asarray(active)
+        return (np.sort(active)[::-1] == active).all()
+
+    assert not front_first(level.physics.bodies.active[static.num_polygons :])  # there was a gap
+    active = compact.physics.bodies.active
+    assert front_first(active[NUM_ARENA_POLYGONS : static.num_polygons]) and front_first(active[static.num_polygons :])
+
+    def attachments(lv):
+        b, j, t = lv.physics.bodies, lv.physics.joints, lv.physics.thrusters
+        return sorted(
+            [
+                tuple(np.asarray(b.position[j.body_a[i]])) + tuple(np.asarray(b.position[j.body_b[i]]))
+                for i in range(static.num_joints)
+            ]
+        ), sorted(
+            [
+                tuple(np.asarray(b.position[t.body[i]])) + tuple(np.asarray(t.anchor[i]))
+                for i in range(static.num_thrusters)
+            ]
+        )
+
+    assert attachments(compact) == attachments(level)
+    assert int(active.sum()) == int(level.physics.bodies.active.sum())
