@@ -9,6 +9,7 @@ from rich.table import Table
 from rich.text import Text
 
 from kinetix_cli.cli.console import console
+from kinetix_cli.cli.processes import COORDINATOR, DEVICES, NUM_PROCESSES, PROCESS_ID, joined
 from kinetix_cli.constants import INT32_MAX
 from kinetix_cli.io import check_output_file
 
@@ -23,13 +24,20 @@ def pretrain(
     resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
     overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
     wandb: str = typer.Option(None, "--wandb", help="Also log to Weights & Biases: offline or online."),
+    devices: int = DEVICES,
+    coordinator: str = COORDINATOR,
+    num_processes: int = NUM_PROCESSES,
+    process_id: int = PROCESS_ID,
 ) -> None:
-    """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set."""
+    """Train a PPO agent (PureJaxRL-style, jitted) on generated levels or a level set, on all local devices (or
+    --devices N) of one process or of several (--coordinator, --num-processes, --process-id)."""
     from kinetix_cli.config import load_config
 
     extra = ["levels.source=levelset", f"levels.levelset={levels}"] if levels else []
     extra += [f"run.wandb={wandb}"] if wandb else []
-    _train_with_progress(load_config(config, [*extra, *overrides]), run_dir, resume)
+    experiment = load_config(config, [*extra, *overrides])
+    with joined(coordinator, num_processes, process_id):
+        _train_with_progress(experiment, run_dir, resume, devices=devices)
 
 
 @commands.command()
@@ -44,6 +52,10 @@ def finetune(
     config: Path = typer.Option(Path("experiments/finetune.yaml"), "--config", help="Experiment config (YAML)."),
     resume: bool = typer.Option(False, "--resume", help="Continue the run from its latest checkpoint."),
     overrides: list[str] = typer.Option([], "--set", help="Override a config value: --set ppo.lr=3e-4."),
+    devices: int = DEVICES,
+    coordinator: str = COORDINATOR,
+    num_processes: int = NUM_PROCESSES,
+    process_id: int = PROCESS_ID,
 ) -> None:
     """Train on hand-made levels, starting from a trained agent (--from RUN) or from scratch (--from none).
 
@@ -55,17 +67,22 @@ def finetune(
     from kinetix_cli.rl.agents import load_policy
     from kinetix_cli.rl.train import finetune_config
 
-    pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
-    experiment = finetune_config(config, level_paths(levels), pretrained, overrides)
-    _train_with_progress(experiment, run_dir, resume, params)
+    with joined(coordinator, num_processes, process_id):
+        pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
+        experiment = finetune_config(config, level_paths(levels), pretrained, overrides)
+        _train_with_progress(experiment, run_dir, resume, params, devices)
 
 
-def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=None) -> None:
+def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=None, devices=None) -> None:
     """Run `train` under a rich progress bar (steps, SPS, return, solve rate, ETA)."""
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+    from kinetix_cli.parallel import is_primary
     from kinetix_cli.rl.train import train
 
+    if not is_primary():  # the primary process shows progress and writes the run; the others train quietly
+        train(experiment, run_dir, resume=resume, init_params=init_params, devices=devices)
+        return
     p = experiment.ppo
     columns = (TextColumn("training"), BarColumn(), TextColumn("{task.fields[info]}"), TimeElapsedColumn())
     with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
@@ -80,7 +97,7 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
             info += f", solve rate {r['solve_rate']:.0%}{last_eval}"
             bar.update(task, completed=r["steps"], info=info)
 
-        train(experiment, run_dir, resume=resume, progress=report, init_params=init_params)
+        train(experiment, run_dir, resume=resume, progress=report, init_params=init_params, devices=devices)
     console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
 
 

@@ -27,6 +27,7 @@ from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, load_config
 from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, read_format
+from kinetix_cli.parallel import is_primary, sync
 from kinetix_cli.rl.curricula.buffer import LevelBuffer
 from kinetix_cli.rl.networks import params_fit
 from kinetix_cli.rl.ppo import Runner
@@ -64,9 +65,13 @@ def _on_disk(runner: Runner) -> Runner:
 
 def save_runner(manager: ocp.CheckpointManager, update: int, runner: Runner) -> None:
     """Write checkpoint `update` and its checksums, and wait until both are on disk (a kill after this loses no
-    finished update)."""
+    finished update). In a multi-process run every process calls it (each writes its shards; the primary the
+    checksums)."""
     manager.save(update, args=ocp.args.StandardSave(_on_disk(runner)))
     manager.wait_until_finished()
+    sync(f"saved {update}")  # every process has written its shards
+    if not is_primary():
+        return
     step_dir = Path(manager.directory) / str(update)
     atomic_write_json(step_dir / CHECKSUMS_FILE, {"update": update, "files": file_digests(step_dir)}, CHECKSUMS_FORMAT)
 
@@ -112,8 +117,9 @@ def _describe(entry) -> str:
 
 
 def restore_runner(manager: ocp.CheckpointManager, update: int, like: Runner) -> Runner:
-    """Checkpoint `update`, verified, with the tree structure, shapes and dtypes of `like` (as host arrays: see
-    `load_policy`). A checkpoint that is damaged or was written with other settings is a `UserError`."""
+    """Checkpoint `update`, verified, with the tree structure, shapes, dtypes and shardings of `like` (the run's
+    fresh state: so the restored arrays are placed as a fresh run's are, and the jitted update is not compiled
+    again). A checkpoint that is damaged or was written with other settings is a `UserError`."""
     step_dir = Path(manager.directory) / str(update)
     verify_checkpoint(step_dir)
     template = _on_disk(like)
@@ -122,7 +128,6 @@ def restore_runner(manager: ocp.CheckpointManager, update: int, like: Runner) ->
         restored = manager.restore(update, args=ocp.args.StandardRestore(template))
     except Exception as exc:  # an unverified (old) checkpoint that orbax cannot read
         raise UserError(f"{step_dir}: cannot restore it ({type(exc).__name__})") from None
-    restored = jax.tree.map(np.asarray, restored)
     return restored.replace(key=jax.random.wrap_key_data(restored.key))
 
 
@@ -152,10 +157,18 @@ def _restore_raw(path: Path) -> tuple[ExperimentConfig, dict, Path]:
         where = run_dir / CHECKPOINTS / str(step)
         verify_checkpoint(where)
         try:
-            raw = jax.tree.map(np.asarray, manager.restore(step, args=ocp.args.StandardRestore()))
+            raw = jax.tree.map(np.asarray, manager.restore(step, args=ocp.args.StandardRestore(_on_one_device(where))))
         except Exception as exc:  # an unverified (old) checkpoint that orbax cannot read
             raise UserError(f"{where}: cannot read the checkpoint ({type(exc).__name__})") from None
     return config, raw, where
+
+
+def _on_one_device(step_dir: Path):
+    """The abstract tree of a checkpoint (from its metadata) placed on this process's first device: a
+    checkpoint written by a run on several devices or processes reads back anywhere."""
+    metadata = ocp.StandardCheckpointer().metadata(step_dir / "default").item_metadata.tree
+    device = jax.sharding.SingleDeviceSharding(jax.local_devices()[0])
+    return jax.tree.map(lambda m: jax.ShapeDtypeStruct(m.shape, m.dtype, sharding=device), metadata)
 
 
 def load_buffer(path: str | Path, placeholder: Level) -> tuple[LevelBuffer, int]:

@@ -36,6 +36,7 @@ from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels, index_level
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.generator.mutate import mutate_level
+from kinetix_cli.parallel import batch_sharded, replicated
 from kinetix_cli.rl.curricula import plr
 from kinetix_cli.rl.curricula.buffer import LevelBuffer, draw_from_buffer, empty_buffer
 
@@ -152,9 +153,10 @@ def update_levels(
     if from_buffer:
         buffered = draw_from_buffer(runner.buffer, k_buffer, from_buffer)
         pool = jax.tree.map(lambda a, b: jnp.concatenate([a, b]), buffered, pool)
+    pool = batch_sharded(pool)
     runner = runner.replace(key=key)
     if fresh is not None:
-        obs, env_state = jax.vmap(env.reset_to_level)(draw_levels(pool, k_first, count))
+        obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(pool, k_first, count)))
         first = runner.update == 0
         runner = runner.replace(
             obs=jax.tree.map(lambda a, b: jnp.where(first, a, b), obs, runner.obs),
@@ -181,11 +183,11 @@ def init_runner(
     if fresh is not None:
         levels = fresh.placeholder()
     k_params, k_reset, key = jax.random.split(key, 3)
-    obs, env_state = jax.vmap(env.reset_to_level)(draw_levels(levels, k_reset, settings.num_envs))
-    params = network.init(k_params, obs)
+    obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(levels, k_reset, settings.num_envs)))
+    params = replicated(network.init(k_params, obs))
     return Runner(
         params=params,
-        opt_state=make_optimizer(settings).init(params),
+        opt_state=replicated(make_optimizer(settings).init(params)),
         env_state=env_state,
         obs=obs,
         episode_return=jnp.zeros(settings.num_envs, jnp.float32),
@@ -218,7 +220,7 @@ def collect(
         # --- step; ended episodes restart
         step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
         obs, env_state, reward, terminated, truncated, info = step(
-            runner.env_state, action, env_params, restart(k_reset)
+            runner.env_state, action, env_params, batch_sharded(restart(k_reset))
         )
         _, next_value = network.apply(runner.params, info["final_observation"])
         done = terminated | truncated
@@ -267,6 +269,7 @@ def learn(
         order = jax.random.permutation(k_perm, batch_size)
         shuffled = jax.tree.map(lambda x: x.reshape((batch_size,) + x.shape[2:])[order], data)
         minibatches = jax.tree.map(lambda x: x.reshape((settings.num_minibatches, -1) + x.shape[1:]), shuffled)
+        minibatches = batch_sharded(minibatches, axis=1)  # each device computes its share of every minibatch
         (params, opt_state), losses = jax.lax.scan(update_minibatch, (params, opt_state), minibatches)
         return (params, opt_state, key, data), losses
 

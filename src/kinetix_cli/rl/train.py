@@ -15,6 +15,7 @@ A run directory holds:
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import json
@@ -41,6 +42,7 @@ from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir
 from kinetix_cli.levels.files import level_paths, load_level
+from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, to_host, using
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner, save_runner
@@ -65,8 +67,14 @@ def train(
     progress: Callable[[dict], None] | None = None,
     pool: Level | None = None,
     init_params=None,
+    devices: int | None = None,
 ) -> Runner:
     """Train (or resume) a run in `run_dir`; returns the final training state.
+
+    The run is data-parallel over a 1-D mesh of `devices` local devices of every process (`kinetix_cli.parallel`;
+    None: all): environments, rollouts and curriculum scoring are split across the devices, parameters and the
+    optimiser state replicated. In a multi-process run every process calls `train` with equal arguments, and
+    only the primary one writes the run's files (checkpoints are written by all, through orbax).
 
     Args:
         config: the experiment.
@@ -76,6 +84,7 @@ def train(
         pool: the training levels (default: `level_pool(config)`; None with source 'fresh').
         init_params: initial network parameters (fine-tuning); default: those of the checkpoint named by
             `run.init_from`, else freshly initialised.
+        devices: local devices per process to train on (None: all).
     """
     run_dir = check_output_dir(run_dir, "--run-dir")
     if not resume and run_dir.exists() and any(run_dir.iterdir()):
@@ -85,10 +94,20 @@ def train(
         raise UserError(f"--resume: {saved} differs from the config given; resume with the run's own config")
 
     # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
+    mesh = make_mesh(devices)
+    _check_split(config, mesh)
+    with using(mesh):
+        return _train(config, run_dir, resume, progress, pool, init_params, mesh)
+
+
+def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh) -> Runner:
+    saved = run_dir / CONFIG_FILENAME
     evaluator = _evaluator(config)
     pool = level_pool(config) if pool is None else pool
+    pool = None if pool is None else replicate(pool, mesh)
     fresh = fresh_source(config)
     env, env_params = make_env(config.env)
+    env_params = replicate(env_params, mesh)
     network = make_network(config.model, config.env)
     settings, curriculum = config.ppo, config.curriculum
     sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
@@ -102,13 +121,13 @@ def train(
             ppo_update, env=env, network=network, settings=settings, fresh=fresh, buffer_share=share
         )
     refresh = functools.partial(refresh_buffer, env=env, network=network, fresh=fresh, curriculum=curriculum)
-    key = jax.random.key(config.run.seed)
+    key = replicate(jax.random.key(config.run.seed), mesh)
     size = curriculum.buffer_size * buffered
     runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=size)
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
-        runner = _with_params(runner, init_params, settings)
+        runner = _with_params(runner, replicate(init_params, mesh), settings)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
         with checkpoint_manager(run_dir, read_only=True) as reader:
@@ -116,14 +135,18 @@ def train(
                 start = int(reader.latest_step())
                 runner = restore_runner(reader, start, runner)
 
+    sync("checked")  # every process has read the run before the primary writes to it
+    primary = is_primary()
     try:
-        run_dir.mkdir(parents=True, exist_ok=True)
-        save_config(config, saved)
-        atomic_write_json(run_dir / VERSIONS_FILE, environment_info(), VERSIONS_FORMAT)
-        _truncate_metrics(run_dir / METRICS_FILE, start)  # a resumed run keeps only the lines it will not redo
+        if primary:
+            run_dir.mkdir(parents=True, exist_ok=True)
+            save_config(config, saved)
+            atomic_write_json(run_dir / VERSIONS_FILE, environment_info(), VERSIONS_FORMAT)
+            _truncate_metrics(run_dir / METRICS_FILE, start)  # a resumed run keeps only the lines it will not redo
+        sync("prepared")
         manager = checkpoint_manager(run_dir)
-        logger = _wandb_run(config, run_dir, resume)
-        log = open(run_dir / METRICS_FILE, "a")  # noqa: SIM115 (closed below, after the last update)
+        logger = _wandb_run(config, run_dir, resume) if primary else None
+        log = open(run_dir / METRICS_FILE, "a") if primary else contextlib.nullcontext()  # noqa: SIM115
     except OSError as exc:
         raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
     with log, manager:
@@ -148,8 +171,9 @@ def train(
             if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or last):
                 record |= _evaluation(evaluator, runner.params, config.run.seed)
             try:
-                log.write(json.dumps(record) + "\n")
-                log.flush()
+                if primary:
+                    log.write(json.dumps(record) + "\n")
+                    log.flush()
                 every = config.run.checkpoint_every
                 if (every and (u + 1) % every == 0) or last:
                     save_runner(manager, u + 1, runner)
@@ -157,11 +181,22 @@ def train(
                 raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
             if logger is not None:
                 logger.log(record, step=steps)
-            if progress is not None:
+            if progress is not None and primary:
                 progress(record)
     if logger is not None:
         logger.finish()
     return runner
+
+
+def _check_split(config: ExperimentConfig, mesh) -> None:
+    """One clear line unless every batch the run splits across devices splits evenly."""
+    check_divisible(config.ppo.num_envs, mesh, "ppo.num_envs")
+    if config.curriculum.name == "sfl":
+        check_divisible(
+            config.curriculum.score_batch * config.curriculum.score_attempts,
+            mesh,
+            "curriculum.score_batch * curriculum.score_attempts",
+        )
 
 
 def finetune_config(
@@ -224,7 +259,7 @@ def _evaluator(config: ExperimentConfig) -> Evaluator | None:
 def _evaluation(evaluator: Evaluator, params, seed: int) -> dict:
     """Mean solve rate and return over the evaluation levels, for the metrics record. The sampling seed is the
     run's, so a resumed run evaluates exactly as an uninterrupted one."""
-    results = evaluator(params, seed)
+    results = evaluator(to_host(params), seed)
     return {
         "eval_solve_rate": float(np.mean([r.solve_rate for r in results])),
         "eval_return": float(np.mean([r.mean_return for r in results])),
