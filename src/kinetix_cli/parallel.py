@@ -144,6 +144,16 @@ def _stop(line: str) -> None:
     os._exit(PEER_LOST_EXIT)
 
 
+def process_index() -> int:
+    """This process's index in the run (0 in a single process)."""
+    return jax.process_index()
+
+
+def process_count() -> int:
+    """Processes in the run (1 without `initialize`)."""
+    return jax.process_count()
+
+
 def is_primary() -> bool:
     """True in the process that writes the run's files (process 0; the only one without `initialize`)."""
     return jax.process_index() == 0
@@ -157,13 +167,15 @@ def sync(name: str) -> None:
         multihost_utils.sync_global_devices(name)
 
 
-def make_mesh(devices: int | None = None) -> Mesh:
-    """The 1-D mesh over `devices` local devices of every process (None: all of them)."""
+def make_mesh(devices: int | None = None, local_only: bool = False) -> Mesh:
+    """The 1-D mesh over `devices` local devices of every process (None: all of them); with `local_only`, over
+    this process's only (work that each process does on its own, like evaluation)."""
     local = jax.local_devices()
     if devices is not None and not 1 <= devices <= len(local):
         raise UserError(f"--devices: must be in 1..{len(local)} (the local {local[0].platform} devices), got {devices}")
     count = len(local) if devices is None else devices  # every process takes its first `count` devices
-    chosen = [d for p in range(jax.process_count()) for d in _process_devices(p)[:count]]
+    processes = [jax.process_index()] if local_only else range(jax.process_count())
+    chosen = [d for p in processes for d in _process_devices(p)[:count]]
     return jax.make_mesh((len(chosen),), (BATCH,), (AxisType.Auto,), devices=chosen)
 
 
@@ -215,6 +227,18 @@ def shard_batch(tree, mesh: Mesh):
     """Every leaf as a global array split along its leading axis over the mesh (equal values in every process)."""
     sharding = NamedSharding(mesh, PartitionSpec(BATCH))
     return jax.tree.map(lambda x: _global(x, sharding), tree)
+
+
+def pad_batch(tree, multiple: int):
+    """Host arrays padded along their leading axis, by repeating the last row, to a multiple of `multiple`
+    (a batch of independent items that must split evenly; the caller drops the padding's results)."""
+
+    def pad(x):
+        x = np.asarray(x)
+        extra = -len(x) % multiple
+        return np.concatenate([x, np.repeat(x[-1:], extra, axis=0)]) if extra else x
+
+    return jax.tree.map(pad, tree)
 
 
 def _global(x, sharding: NamedSharding):

@@ -10,7 +10,7 @@ import jax
 
 from engine import SIZES
 from kinetix_cli.env.level import level_count
-from kinetix_cli.generator.filters import generate_chunk, make_config, sample_and_filter
+from kinetix_cli.generator.filters import generate_chunk, make_config, sample_and_filter_chunks
 from kinetix_cli.generator.sampler import sample_level
 
 
@@ -62,7 +62,7 @@ def bench_generate(config: GenerateBenchConfig) -> GenerateBenchResult:
     jax.jit(jax.vmap(lambda k: sample_level(static, generation.sampler, k))).lower(keys).compile()
     sampler_compile_s = time.perf_counter() - start
     start = time.perf_counter()
-    sample_and_filter.lower(static, generation.sampler, generation.filters, config.chunk, keys[0]).compile()
+    sample_and_filter_chunks.lower(static, generation.sampler, generation.filters, config.chunk, keys[:1]).compile()
     compile_s = time.perf_counter() - start
     generate_chunk(generation, config.seed, 0)  # warm-up (also loads the compiled function)
     kept = sampled = chunks = 0

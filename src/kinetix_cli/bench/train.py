@@ -5,7 +5,8 @@ One measurement compiles the whole jitted PPO update of `kinetix_cli.rl.ppo` (ro
 updates for at least `min_time` seconds. Env steps/s = envs x num_steps / seconds per update (median).
 The environments reset to random full levels of the size (`bench.env.random_levels`: every slot used), the
 heaviest case for the engine and for the entity models. Each model reads its first observation type in
-`constants.MODEL_OBSERVATIONS`.
+`constants.MODEL_OBSERVATIONS`. With several device counts (`devices`), each is measured on a mesh of that many
+local devices (`kinetix_cli.parallel`), the environments split across them.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings, PPO
 from kinetix_cli.constants import MODEL_NAMES, MODEL_OBSERVATIONS
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import UserError
+from kinetix_cli.parallel import check_divisible, make_mesh, replicate, using
 from kinetix_cli.rl.networks import make_network, parameter_count
 from kinetix_cli.rl.ppo import init_runner, ppo_update
 
@@ -41,6 +43,7 @@ class TrainBenchConfig:
         min_time: seconds of timed updates per measurement (at least 2 updates).
         distinct_levels: random full levels the environments reset to.
         seed: seed of the levels, parameters and actions.
+        devices: local device counts to measure on (None: all local devices).
     """
 
     size: str = "s"
@@ -54,6 +57,7 @@ class TrainBenchConfig:
     min_time: float = 5.0
     distinct_levels: int = 128
     seed: int = 0
+    devices: tuple[int, ...] | None = None
 
 
 @dataclasses.dataclass
@@ -68,6 +72,7 @@ class TrainBenchResult:
     compile_s: float
     steps_per_s: float
     calls: int
+    devices: int = 1
 
 
 def experiment_for(config: TrainBenchConfig, model: str, envs: int) -> ExperimentConfig:
@@ -98,23 +103,30 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
             raise UserError(
                 f"--minibatches: {config.minibatches} does not divide envs x steps = {envs} x {config.num_steps}"
             )
+    meshes = [make_mesh(count) for count in config.devices or [None]]
+    for mesh in meshes:
+        for envs in config.envs:
+            check_divisible(envs, mesh, "--envs")
     pool = random_levels(SIZES[config.size], config.distinct_levels, config.seed)
     results = []
     for model in config.models:
         for envs in config.envs:
-            experiment = experiment_for(config, model, envs)
-            env, env_params = make_env(experiment.env)
-            network = make_network(experiment.model, experiment.env)
-            update = functools.partial(ppo_update, env=env, network=network, settings=experiment.ppo)
-            runner = init_runner(env, network, experiment.ppo, pool, jax.random.key(config.seed))
-            step = functools.partial(update, env_params=env_params, levels=pool)
-            compile_s, rate, calls = time_calls(
-                lambda r, step=step: (step(r)[0],), (runner,), envs * config.num_steps, config.min_time
-            )
-            observation = experiment.env.observation
-            result = TrainBenchResult(
-                model, observation, config.size, envs, parameter_count(runner.params), compile_s, rate, calls
-            )
-            results.append(result)
-            report(result)
+            for mesh in meshes:
+                with using(mesh):
+                    result = _measure(config, model, envs, replicate(pool, mesh), mesh)
+                results.append(result)
+                report(result)
     return results
+
+
+def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> TrainBenchResult:
+    experiment = experiment_for(config, model, envs)
+    env, env_params = make_env(experiment.env)
+    network = make_network(experiment.model, experiment.env)
+    update = functools.partial(ppo_update, env=env, network=network, settings=experiment.ppo)
+    runner = init_runner(env, network, experiment.ppo, pool, replicate(jax.random.key(config.seed), mesh))
+    step = functools.partial(update, env_params=replicate(env_params, mesh), levels=pool)
+    compile_s, rate, calls = time_calls(lambda r: (step(r)[0],), (runner,), envs * config.num_steps, config.min_time)
+    parameters = parameter_count(runner.params)
+    observation = experiment.env.observation
+    return TrainBenchResult(model, observation, config.size, envs, parameters, compile_s, rate, calls, mesh.size)

@@ -102,9 +102,11 @@ def bench_train_command(
     layers: int = typer.Option(5, min=1, max=64, help="Actor and critic hidden layers."),
     min_time: float = typer.Option(5.0, min=0.0, max=3600.0, help="Seconds of timed updates per measurement."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the levels, parameters and actions."),
+    devices: str = typer.Option(None, help="Comma-separated local device counts to measure on (default: all)."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
-    """PPO training env steps per second and compile time per model (whole jitted updates)."""
+    """PPO training env steps per second and compile time per model (whole jitted updates), on all local
+    devices or per device count (--devices 1,2)."""
     if json_path is not None:
         check_output_file(json_path, "--json")
     from kinetix_cli.bench.train import TrainBenchConfig, bench_train
@@ -120,17 +122,18 @@ def bench_train_command(
         layers=layers,
         min_time=min_time,
         seed=seed,
+        devices=None if devices is None else int_list("--devices", devices),
     )
-    table = Table("model", "observation", "size", "envs", "parameters", "compile [s]", "env steps/s")
+    table = Table("model", "observation", "size", "envs", "devices", "parameters", "compile [s]", "env steps/s")
 
     def report(r):
         console.print(
-            f"{r.model:12s} size {r.size} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, "
+            f"{r.model:12s} size {r.size} envs {r.envs:5d} devices {r.devices}: compile {r.compile_s:6.1f} s, "
             f"{r.steps_per_s:10,.0f} env steps/s",
             style="dim",
         )
-        row = (r.model, r.observation, r.size, str(r.envs), f"{r.parameters:,}", f"{r.compile_s:.1f}")
-        table.add_row(*row, f"{r.steps_per_s:,.0f}")
+        row = (r.model, r.observation, r.size, str(r.envs), str(r.devices), f"{r.parameters:,}")
+        table.add_row(*row, f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}")
 
     results = bench_train(config, report)
     console.print(table)

@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from kinetix_cli.cli.console import console
+from kinetix_cli.cli.processes import COORDINATOR, DEVICES, NUM_PROCESSES, PROCESS_ID, joined
 from kinetix_cli.constants import INT32_MAX
 from kinetix_cli.io import check_output_dir
 
@@ -24,20 +25,37 @@ def generate(
     random_max_rate: float = typer.Option(0.5, help="Drop levels random play solves more often than this."),
     chunk: int = typer.Option(1024, min=1, max=2**20, help="Levels sampled per device batch."),
     shard_size: int = typer.Option(4096, min=1, max=2**20, help="Levels per shard file."),
+    devices: int = DEVICES,
+    coordinator: str = COORDINATOR,
+    num_processes: int = NUM_PROCESSES,
+    process_id: int = PROCESS_ID,
 ) -> None:
-    """Sample levels, drop trivial ones, and write a level set (manifest + shards), resumably."""
+    """Sample levels, drop trivial ones, and write a level set (manifest + shards), resumably. Each chunk is
+    split over all local devices (or --devices N) of one process or of several (--coordinator, ...); the set is
+    the same at any device or process count."""
+    check_output_dir(out, "--out")
+    with joined(coordinator, num_processes, process_id):
+        _generate(size, count, seed, out, filters, random_attempts, random_max_rate, chunk, shard_size, devices)
+
+
+def _generate(size, count, seed, out, filters, random_attempts, random_max_rate, chunk, shard_size, devices) -> None:
+    import contextlib
+
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from kinetix_cli.generator.filters import FilterConfig, generate_chunk, make_config, parse_filters
+    from kinetix_cli.generator.filters import FilterConfig, chunk_source, make_config, parse_filters
     from kinetix_cli.levels.levelset import generate_levelset
+    from kinetix_cli.parallel import is_primary, make_mesh
 
-    check_output_dir(out, "--out")
     noop, random = parse_filters(filters)
     filter_config = FilterConfig(noop, random_attempts if random else 0, random_max_rate)
     config = make_config(size, chunk, filter_config)
+    mesh = make_mesh(devices)  # one chunk per device at a time
     columns = (TextColumn("generating"), BarColumn(), MofNCompleteColumn(), TextColumn("{task.fields[info]}"))
-    with Progress(*columns, TimeElapsedColumn(), console=console) as bar:
-        task = bar.add_task("generate", total=count, info="compiling the sampler and filters...")
+    shown = Progress(*columns, TimeElapsedColumn(), console=console) if is_primary() else contextlib.nullcontext()
+    with shown as bar:
+        info = "compiling the sampler and filters..."
+        task = bar.add_task("generate", total=count, info=info) if bar is not None else None
         start: list[float] = []  # time and kept count after the first chunk (which includes compilation)
 
         def report(kept: int, stats: dict) -> None:
@@ -47,7 +65,8 @@ def generate(
             rate = (kept - start[1]) / max(time.perf_counter() - start[0], 1e-9)
             sampled = max(stats.get("sampled", 0), 1)
             info = f"{rate:,.0f} kept levels/s, kept {kept / sampled:.0%} of {sampled:,} sampled"
-            bar.update(task, completed=kept, info=info if rate else "first chunk done")
+            if bar is not None:
+                bar.update(task, completed=kept, info=info if rate else "first chunk done")
 
         manifest = generate_levelset(
             out,
@@ -55,9 +74,12 @@ def generate(
             count=count,
             seed=seed,
             settings=config.settings(),
-            chunk_fn=lambda i: generate_chunk(config, seed, i),
+            chunk_fn=chunk_source(config, seed, mesh),
             shard_size=shard_size,
             progress=report,
         )
     stats = ", ".join(f"{k} {v:,}" for k, v in manifest["stats"].items())
-    console.print(f"wrote {out}: {manifest['count']:,} {size} levels in {len(manifest['shards'])} shard(s); {stats}")
+    if is_primary():
+        console.print(
+            f"wrote {out}: {manifest['count']:,} {size} levels in {len(manifest['shards'])} shard(s); {stats}"
+        )

@@ -110,9 +110,10 @@ def eval_command(
     attempts: int = typer.Option(20, min=1, max=10**5, help="Stochastic episodes per level."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+    devices: int = DEVICES,
 ) -> None:
     """Solve rate, return and episode length of a trained policy per level and per suite, in the run's own
-    environment settings."""
+    environment settings; the episodes are split over all local devices (or --devices N)."""
     if json_path is not None:
         check_output_file(json_path, "--json")
     import dataclasses
@@ -124,7 +125,7 @@ def eval_command(
     from kinetix_cli.rl.evaluate import evaluate, suite_summary
 
     config, params, update = load_policy(policy)
-    results = evaluate(config, params, level_paths(levels), attempts, seed)
+    results = evaluate(config, params, level_paths(levels), attempts, seed, devices)
     table = Table("level", "solve rate", "return", "length")
     for r in results:
         table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")

@@ -9,12 +9,15 @@ default environment settings (`FILTER_SETTINGS`, the environment's cap) in one b
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
+from collections.abc import Callable
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.sharding import Mesh
 
 from engine import SIZES, Params, Static
 from kinetix_cli.config import EnvSettings
@@ -24,6 +27,7 @@ from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.sampler import SamplerConfig, default_config, is_valid, sample_level
+from kinetix_cli.parallel import batch_sharded, replicate, replicated, using
 
 FILTER_SETTINGS = EnvSettings(observation="symbolic-flat")
 """The environment the filter episodes run in (the size is the chunk's; the observation is never computed)."""
@@ -99,6 +103,17 @@ def make_config(size: str, chunk: int = 1024, filters: FilterConfig | None = Non
 
 
 @functools.partial(jax.jit, static_argnums=(0, 1, 2, 3))
+def sample_and_filter_chunks(
+    static: Static, sampler: SamplerConfig, filters: FilterConfig, chunk: int, keys: jax.Array
+) -> tuple[Level, jax.Array, jax.Array, jax.Array]:
+    """`sample_and_filter` of one chunk per key in `keys` (n,), batched (n, chunk, ...). Under a mesh of n
+    devices each device computes one chunk, with the program a single device runs for one chunk: so a chunk
+    comes out bit for bit the same at any device count (splitting a chunk instead would change the batch width
+    of its filter episodes, and with it XLA's rounding)."""
+    play = functools.partial(sample_and_filter, static, sampler, filters, chunk)
+    return replicated(jax.vmap(play)(batch_sharded(keys)))  # every process gets every chunk
+
+
 def sample_and_filter(static: Static, sampler: SamplerConfig, filters: FilterConfig, chunk: int, key: jax.Array):
     """Sample `chunk` levels and play the filter episodes. Returns (levels, valid, noop_solved, random_solved)
     with levels batched (chunk, ...), flags (chunk,) bool and random_solved (chunk,) int32 episodes."""
@@ -131,13 +146,49 @@ def sample_and_filter(static: Static, sampler: SamplerConfig, filters: FilterCon
     return levels, valid, noop_solved, random_solved
 
 
+def generate_chunks(
+    config: GenerateConfig, seed: int, indices: range, mesh: Mesh | None = None
+) -> list[tuple[Level, dict]]:
+    """Chunks `indices` of the set, each as its kept levels (numpy, in sample order) and why the others were
+    dropped. With a `mesh`, one chunk per device (`len(indices)` a multiple of the mesh's size), in every
+    process of a multi-process run; every process returns every chunk."""
+    keys = jax.vmap(lambda i: jax.random.fold_in(jax.random.key(seed), i))(jnp.asarray(indices, jnp.uint32))
+    with using(mesh) if mesh is not None else contextlib.nullcontext():
+        keys = keys if mesh is None else replicate(keys, mesh)
+        batch = sample_and_filter_chunks(SIZES[config.size], config.sampler, config.filters, config.chunk, keys)
+    batch = jax.device_get(batch)
+    return [_kept(config, jax.tree.map(functools.partial(_row, row=row), batch)) for row in range(len(indices))]
+
+
+def _row(x: np.ndarray, row: int) -> np.ndarray:
+    return x[row]
+
+
 def generate_chunk(config: GenerateConfig, seed: int, index: int) -> tuple[Level, dict]:
-    """Chunk `index` of the set: its kept levels (numpy, in sample order) and why the others were dropped."""
-    key = jax.random.fold_in(jax.random.key(seed), index)
+    """Chunk `index` of the set on one device (see `generate_chunks`)."""
+    return generate_chunks(config, seed, range(index, index + 1))[0]
+
+
+def chunk_source(config: GenerateConfig, seed: int, mesh: Mesh | None = None) -> Callable[[int], tuple[Level, dict]]:
+    """`chunk(i)` for a caller that asks for chunks 0, 1, 2, ... in order: computed `mesh.size` at a time (one
+    per device), from the chunk asked for on."""
+    count = 1 if mesh is None else mesh.size
+    ready: dict[int, tuple[Level, dict]] = {}
+
+    def chunk(index: int) -> tuple[Level, dict]:
+        if index not in ready:
+            ready.clear()
+            indices = range(index, index + count)
+            ready.update(zip(indices, generate_chunks(config, seed, indices, mesh), strict=True))
+        return ready[index]
+
+    return chunk
+
+
+def _kept(config: GenerateConfig, chunk) -> tuple[Level, dict]:
+    """A chunk's kept levels and counters, from `sample_and_filter`'s outputs (host arrays)."""
+    levels, valid, noop_solved, random_solved = chunk
     f = config.filters
-    levels, valid, noop_solved, random_solved = jax.device_get(
-        sample_and_filter(SIZES[config.size], config.sampler, f, config.chunk, key)
-    )
     too_easy = random_solved > f.random_max_rate * f.random_attempts if f.random_attempts else np.zeros_like(valid)
     dropped_invalid = ~valid
     dropped_noop = valid & noop_solved

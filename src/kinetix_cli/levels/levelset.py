@@ -6,7 +6,10 @@ by its tree path ("physics/bodies/position": (n, num_bodies, 2) float32). Every 
 `shard_size` levels. Generated levels run with the engine's default constants, so `engine_params` is not stored;
 loaded levels carry the defaults.
 While generating, `progress.json` records where to resume; it is removed once the manifest is written.
-Files are byte-reproducible: the same call always writes the same bytes, interrupted or not.
+Files are byte-reproducible: the same call always writes the same bytes, interrupted or not, in one process or
+several: in a multi-process run (`kinetix_cli.parallel`) every process computes every chunk together (split over
+all devices) and keeps the same account of the set, shard k is written by process k mod P, and process 0 writes
+`progress.json` and the manifest once every process has written its shards (the folder must be shared).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from kinetix_cli.constants import LEVELSET_FORMAT, LEVELSET_PROGRESS_FORMAT
 from kinetix_cli.env.level import Level, empty_bindings, index_level, make_level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write, atomic_write_json, check_output_dir, read_format
+from kinetix_cli.parallel import is_primary, process_count, process_index, sync
 from kinetix_cli.provenance import tool_version
 
 PROGRESS_FORMAT = LEVELSET_PROGRESS_FORMAT
@@ -193,6 +197,9 @@ def generate_levelset(
         (out / PROGRESS_FILE).unlink(missing_ok=True)  # left by a crash just after the manifest was written
         return manifest
     run = _resume(out, identity, template)
+    sync("levelset checked")  # every process has read the folder before the primary writes to it
+    if not (out / PROGRESS_FILE).is_file() and is_primary():
+        _save_progress(out, run, identity)
     idle = 0  # chunks in a row that added no level
     while run.kept < count:
         i, (arrays, chunk_stats) = run.next_chunk, _chunk(chunk_fn, run.next_chunk, template)
@@ -209,8 +216,10 @@ def generate_levelset(
         if progress is not None:
             progress(run.kept, dict(run.stats))
     manifest = dict(identity, version=tool_version(), shards=run.shards, stats=dict(sorted(run.stats.items())))
-    atomic_write_json(out / MANIFEST_FILE, manifest, LEVELSET_FORMAT)
-    (out / PROGRESS_FILE).unlink()
+    if is_primary():
+        atomic_write_json(out / MANIFEST_FILE, manifest, LEVELSET_FORMAT)
+        (out / PROGRESS_FILE).unlink()
+    sync("levelset written")
     return {"format": LEVELSET_FORMAT, **manifest}
 
 
@@ -256,13 +265,17 @@ def _write_shard(out: Path, run: _Run, identity: dict) -> None:
     buffer = io.BytesIO()
     write_npz(buffer, arrays)
     name = SHARD_FILE.format(len(run.shards))
-    atomic_write(out / name, lambda f: f.write(buffer.getvalue()))
+    if len(run.shards) % process_count() == process_index():  # one process writes each shard
+        atomic_write(out / name, lambda f: f.write(buffer.getvalue()))
     run.shards.append({"file": name, "count": _rows(arrays), "sha256": hashlib.sha256(buffer.getvalue()).hexdigest()})
     run.pending = []
+    sync(f"levelset {name}")  # the shard is on disk before progress names it
     _save_progress(out, run, identity)
 
 
 def _save_progress(out: Path, run: _Run, identity: dict) -> None:
+    if not is_primary():
+        return
     fields = {"next_chunk": run.next_chunk, "offset": run.offset, "stats": run.stats, "shards": run.shards}
     atomic_write_json(out / PROGRESS_FILE, dict(identity, **fields), PROGRESS_FORMAT)
 
@@ -272,9 +285,7 @@ def _resume(out: Path, identity: dict, template: Arrays) -> _Run:
     if not (out / PROGRESS_FILE).is_file():
         if out.exists() and any(out.iterdir()):
             raise UserError(f"{out}: not empty and not a level set; choose a new or empty directory")
-        run = _Run()
-        _save_progress(out, run, identity)
-        return run
+        return _Run()
     saved = read_format(out / PROGRESS_FILE, PROGRESS_FORMAT)
     _check_identity(out, saved, identity)
     try:

@@ -3,7 +3,9 @@
 A level's solve rate is the share of `attempts` first episodes that end with green touching blue (the
 reference's protocol: 20 attempts, actions sampled from the policy). The episodes run in the run's own
 environment (`make_env_for_level(config.env, ...)`: its frame skip, episode cap and shaping), with each level's
-engine constants. Levels are grouped by size and each size is one batched, jitted rollout of the episode runner.
+engine constants. Levels are grouped by size and each size is one batched, jitted rollout of the episode runner,
+its episodes split over the process's local devices (`kinetix_cli.parallel`; each episode has its own key, so the
+results do not depend on the device count).
 A policy reading `symbolic-flat` observations only plays levels of its own size (the vector length depends on
 it); entity- and pixel-observation policies play every size.
 """
@@ -24,6 +26,7 @@ from kinetix_cli.env.episode import Outcome, run_episode
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, share_engine_params, stack_levels
 from kinetix_cli.levels.files import load_level
+from kinetix_cli.parallel import make_mesh, pad_batch, replicate, shard_batch, using
 from kinetix_cli.rl.networks import make_network, sampling_policy
 
 
@@ -61,10 +64,12 @@ def play_policy(
 class Evaluator:
     """Plays a policy on a fixed list of level files. Built once (files loaded, levels batched per size), then
     called with parameters as often as needed: `kinetix eval` calls it once, training calls it every
-    `run.eval_every` updates. The jitted rollout is shared by every evaluator with the same settings."""
+    `run.eval_every` updates. The jitted rollout is shared by every evaluator with the same settings. Episodes
+    are split over `devices` local devices (None: all)."""
 
-    def __init__(self, config: ExperimentConfig, files: list[Path], attempts: int):
+    def __init__(self, config: ExperimentConfig, files: list[Path], attempts: int, devices: int | None = None):
         self.attempts = attempts
+        self.mesh = make_mesh(devices, local_only=True)
         self.network = make_network(config.model, config.env)
         self.horizon = config.env.max_steps
         by_size: dict[str, list] = {}
@@ -76,17 +81,34 @@ class Evaluator:
             env, env_params = make_env_for_level(config.env, size, str(entries[0][0]))
             levels = stack_levels([spec.build(env.static) for _, spec in entries])
             repeated = jax.tree.map(lambda x: np.repeat(np.asarray(x), attempts, axis=0), levels)  # host side
-            self._groups.append((size, [path for path, _ in entries], env, env_params, *share_engine_params(repeated)))
+            levels, level_axes = share_engine_params(repeated)
+            env_params, levels = replicate(env_params, self.mesh), self._split(levels, level_axes)
+            self._groups.append((size, [path for path, _ in entries], env, env_params, levels, level_axes))
+
+    def _split(self, levels: Level, level_axes) -> Level:
+        """The episodes' levels on the devices: batched parts split (padded to a multiple of the device count),
+        engine constants shared by all levels replicated."""
+        shard = lambda tree: shard_batch(pad_batch(tree, self.mesh.size), self.mesh)  # noqa: E731
+        if level_axes == 0:
+            return shard(levels)
+        return levels.replace(
+            physics=shard(levels.physics),
+            bindings=shard(levels.bindings),
+            engine_params=replicate(levels.engine_params, self.mesh),
+        )
 
     def __call__(self, params, seed: int = 0) -> list[LevelResult]:
         """`attempts` sampled episodes of every level with the policy `params`; one result per level file."""
         results = []
+        params = replicate(params, self.mesh)
         for size, paths, env, env_params, levels, level_axes in self._groups:
-            keys = jax.random.split(jax.random.key(seed), len(paths) * self.attempts)
+            keys = jax.random.key_data(jax.random.split(jax.random.key(seed), len(paths) * self.attempts))
+            keys = jax.random.wrap_key_data(shard_batch(pad_batch(keys, self.mesh.size), self.mesh))
             play = functools.partial(
                 play_policy, env=env, network=self.network, horizon=self.horizon, level_axes=level_axes
             )
-            outcome = jax.device_get(play(params, env_params, levels, keys))
+            with using(self.mesh):
+                outcome = jax.device_get(play(params, env_params, levels, keys))
             for i, path in enumerate(paths):
                 rows = slice(i * self.attempts, (i + 1) * self.attempts)
                 results.append(
@@ -102,9 +124,12 @@ class Evaluator:
         return results
 
 
-def evaluate(config: ExperimentConfig, params, files: list[Path], attempts: int, seed: int = 0) -> list[LevelResult]:
-    """Play `attempts` episodes of every level file with the policy; one batched rollout per size."""
-    return Evaluator(config, files, attempts)(params, seed)
+def evaluate(
+    config: ExperimentConfig, params, files: list[Path], attempts: int, seed: int = 0, devices: int | None = None
+) -> list[LevelResult]:
+    """Play `attempts` episodes of every level file with the policy; one batched rollout per size, split over
+    `devices` local devices (None: all)."""
+    return Evaluator(config, files, attempts, devices)(params, seed)
 
 
 def suite_summary(results: list[LevelResult]) -> dict[str, dict]:

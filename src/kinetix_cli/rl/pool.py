@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import jax
 import numpy as np
+from jax.sharding import Mesh
 
 from engine import SIZES
 from kinetix_cli.config import ExperimentConfig
 from kinetix_cli.env.level import Level, level_count, stack_levels, to_device
 from kinetix_cli.errors import UserError
-from kinetix_cli.generator.filters import generate_chunk, make_config
+from kinetix_cli.generator.filters import chunk_source, make_config
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.levelset import load_levelset
@@ -23,9 +24,10 @@ def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
     return FreshLevels.for_size(SIZES[config.env.size], config.env.size)
 
 
-def level_pool(config: ExperimentConfig) -> Level | None:
+def level_pool(config: ExperimentConfig, mesh: Mesh | None = None) -> Level | None:
     """The training levels as one batch of device arrays: level files (each with its own engine constants), a
-    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`); None for source 'fresh'."""
+    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`; generated on the `mesh`'s
+    devices when given); None for source 'fresh'."""
     settings, size = config.levels, config.env.size
     if settings.source == "fresh":
         return None
@@ -36,10 +38,10 @@ def level_pool(config: ExperimentConfig) -> Level | None:
         if levelset.manifest["size"] != size:
             raise UserError(f"{settings.levelset}: holds size-{levelset.manifest['size']} levels, env.size is {size}")
         return to_device(levelset.levels)
-    generation = make_config(size)
+    chunk = chunk_source(make_config(size), config.run.seed, mesh)
     chunks, kept, index = [], 0, 0
     while kept < settings.pool_size:
-        levels, _ = generate_chunk(generation, config.run.seed, index)
+        levels, _ = chunk(index)
         chunks.append(levels)
         kept += level_count(levels)
         index += 1

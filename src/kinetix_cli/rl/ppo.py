@@ -80,6 +80,14 @@ class Runner:
     update: jax.Array
     buffer: LevelBuffer | None = None
 
+    def placed(self) -> Runner:
+        """Under a device mesh: the environments split across the devices, everything else (parameters,
+        optimiser state, key, the curriculum's buffer) replicated. Every jitted function that returns a runner
+        places it so, so its next call sees the same shardings (and is not compiled again)."""
+        batched = batch_sharded((self.env_state, self.obs, self.episode_return))
+        shared = replicated((self.params, self.opt_state, self.key, self.update, self.buffer))
+        return Runner(*shared[:2], *batched, *shared[2:])
+
 
 def make_optimizer(settings: PPOSettings) -> optax.GradientTransformation:
     """Adam with global-norm gradient clipping; the learning rate decays linearly to 0 over the run when
@@ -184,17 +192,17 @@ def init_runner(
         levels = fresh.placeholder()
     k_params, k_reset, key = jax.random.split(key, 3)
     obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(levels, k_reset, settings.num_envs)))
-    params = replicated(network.init(k_params, obs))
+    params = network.init(k_params, obs)
     return Runner(
         params=params,
-        opt_state=replicated(make_optimizer(settings).init(params)),
+        opt_state=make_optimizer(settings).init(params),
         env_state=env_state,
         obs=obs,
         episode_return=jnp.zeros(settings.num_envs, jnp.float32),
         key=key,
         update=jnp.zeros((), jnp.int32),
         buffer=empty_buffer(levels, buffer_size) if buffer_size else None,
-    )
+    ).placed()
 
 
 def collect(
@@ -317,7 +325,7 @@ def ppo_update(
     advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
     # --- update epochs
     runner, losses = learn(runner, transitions, advantages, targets, network=network, settings=settings)
-    runner = runner.replace(update=runner.update + 1)
+    runner = runner.replace(update=runner.update + 1).placed()
     return runner, rollout_metrics(transitions, finished_return, losses)
 
 
@@ -358,7 +366,7 @@ def plr_update(
         mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
         mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
         candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
-    played = jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates)
+    played = batch_sharded(jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates))
     obs, env_state = jax.vmap(env.reset_to_level)(played)
     runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
     # --- collect: every environment stays on its level
@@ -381,6 +389,6 @@ def plr_update(
         lambda b: plr.insert(b, candidates, score, solve_rate, best, runner.update),
         buffer,
     )
-    runner = runner.replace(buffer=buffer, update=runner.update + 1)
+    runner = runner.replace(buffer=buffer, update=runner.update + 1).placed()
     modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
     return runner, rollout_metrics(transitions, finished_return, losses) | modes

@@ -97,13 +97,13 @@ def train(
     mesh = make_mesh(devices)
     _check_split(config, mesh)
     with using(mesh):
-        return _train(config, run_dir, resume, progress, pool, init_params, mesh)
+        return _train(config, run_dir, resume, progress, pool, init_params, mesh, devices)
 
 
-def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh) -> Runner:
+def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh, devices) -> Runner:
     saved = run_dir / CONFIG_FILENAME
-    evaluator = _evaluator(config)
-    pool = level_pool(config) if pool is None else pool
+    evaluator = _evaluator(config, devices)
+    pool = level_pool(config, mesh) if pool is None else pool
     pool = None if pool is None else replicate(pool, mesh)
     fresh = fresh_source(config)
     env, env_params = make_env(config.env)
@@ -249,11 +249,12 @@ def _curriculum_metrics(runner: Runner, config: ExperimentConfig, steps: int) ->
     return buffer | {"total_steps": total, "scoring_steps": scoring, "scoring_share": scoring / total}
 
 
-def _evaluator(config: ExperimentConfig) -> Evaluator | None:
-    """The evaluator of `run.eval_levels` (loaded once), or None when training does not evaluate."""
+def _evaluator(config: ExperimentConfig, devices: int | None) -> Evaluator | None:
+    """The evaluator of `run.eval_levels` (loaded once; each process evaluates on its `devices` local devices),
+    or None when training does not evaluate."""
     if not (config.run.eval_every and config.run.eval_levels):
         return None
-    return Evaluator(config, level_paths(config.run.eval_levels), config.run.eval_attempts)
+    return Evaluator(config, level_paths(config.run.eval_levels), config.run.eval_attempts, devices)
 
 
 def _evaluation(evaluator: Evaluator, params, seed: int) -> dict:

@@ -21,6 +21,7 @@ from kinetix_cli.config import CurriculumSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.parallel import batch_sharded, replicated
 from kinetix_cli.rl.curricula.buffer import LevelBuffer, top_levels
 
 
@@ -76,6 +77,7 @@ def refresh_buffer(
     def score_batch(key):
         k_levels, k_play = jax.random.split(key)
         levels = fresh(k_levels, batch) if fresh is not None else draw_levels(pool, k_levels, batch)
+        levels = batch_sharded(levels)  # under a mesh, each device scores its share of the batch
         solved, ended = episode_counts(
             params,
             env_params,
@@ -93,4 +95,6 @@ def refresh_buffer(
     levels, rates = jax.tree.map(lambda x: x.reshape((-1, *x.shape[2:])), (levels, rates))
     seen = jnp.full(rates.shape, update, jnp.int32)
     rounds = buffer.rounds + 1
-    return top_levels(levels, rates * (1.0 - rates), rates, curriculum.buffer_size, seen, jnp.zeros_like(rates), rounds)
+    scores, best = rates * (1.0 - rates), jnp.zeros_like(rates)
+    buffer = top_levels(levels, scores, rates, curriculum.buffer_size, seen, best, rounds)
+    return replicated(buffer)  # one global buffer, a copy on every device

@@ -1,0 +1,61 @@
+"""`kinetix` as separate processes: with forced host devices (`FORCE_2`), or as the processes of one
+multi-process run on localhost (a free port, every process bounded by a timeout and killed on failure)."""
+
+from __future__ import annotations
+
+import os
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+KINETIX = [sys.executable, "-c", "from kinetix_cli.cli.app import main; main()"]
+FORCE_2 = "--xla_force_host_platform_device_count=2"
+"""XLA_FLAGS giving a process 2 CPU devices."""
+TIMEOUT = 600
+"""A bound on every process [s]: a hang fails the test instead of stalling the suite."""
+
+
+def cache_env(folder: Path) -> dict:
+    """The environment with a compile cache in `folder`, shared by processes that compile the same programs."""
+    return os.environ | {"JAX_COMPILATION_CACHE_DIR": str(folder)}
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        return s.getsockname()[1]
+
+
+def start(args: list, env: dict, **extra) -> subprocess.Popen:
+    """`kinetix ARGS` started with `env` plus the variables `extra`."""
+    return subprocess.Popen(
+        [*KINETIX, *map(str, args)], env=env | extra, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+
+
+def finish(started: list[subprocess.Popen], timeout: float = TIMEOUT) -> list[tuple[int, str]]:
+    """Wait for every process (killing all of them if one outlives `timeout`); (exit code, stderr) of each."""
+    deadline = time.monotonic() + timeout
+    results = []
+    try:
+        for process in started:
+            _, err = process.communicate(timeout=max(deadline - time.monotonic(), 1))
+            results.append((process.returncode, err))
+    finally:
+        for process in started:
+            process.kill()
+    return results
+
+
+def processes(args: list, env: dict, count: int = 2) -> list[subprocess.Popen]:
+    """The `count` processes of one run of `kinetix ARGS`, coordinated on a free localhost port."""
+    flags = ["--coordinator", f"localhost:{free_port()}", "--num-processes", str(count)]
+    return [start([*args, *flags, "--process-id", str(i)], env) for i in range(count)]
+
+
+def run_ok(started: list[subprocess.Popen]) -> None:
+    """Wait for the processes; each must succeed."""
+    for code, err in finish(started):
+        assert code == 0, err[-2000:]
