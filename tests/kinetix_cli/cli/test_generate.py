@@ -1,5 +1,6 @@
 """`kinetix generate` and the level-set commands through the CLI: a set is written, rerunning changes nothing,
-info/show/export read it; bad input is one line and exit code 2."""
+info/show/export read it, two processes (and two devices) write the same set; bad input is one line and exit
+code 2."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import json
 import pytest
 from typer.testing import CliRunner
 
+from helpers.processes import FORCE_2, cache_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
 from kinetix_cli.levels.files import load_level
 
@@ -15,19 +17,32 @@ runner = CliRunner()
 CHUNK = 32
 
 
-def test_generate_info_show_export(tmp_path):
-    out = tmp_path / "set"
-    args = ["generate", "--size", "s", "--count", "40", "--seed", "3", "--chunk", str(CHUNK), "--shard-size", "16"]
-    result = runner.invoke(app, [*args, "--out", str(out)])
+GENERATE = ["generate", "--size", "s", "--count", "40", "--seed", "3", "--chunk", str(CHUNK), "--shard-size", "16"]
+
+
+def files_of(folder) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory):
+    """A set written by `kinetix generate` in this process (one device)."""
+    out = tmp_path_factory.mktemp("generate") / "set"
+    result = runner.invoke(app, [*GENERATE, "--out", str(out)])
     assert result.exit_code == 0, result.output
-    files = {p.name: p.read_bytes() for p in out.iterdir()}
+    return out
+
+
+def test_generate_info_show_export(tmp_path, generated):
+    out, args = generated, GENERATE
+    files = files_of(out)
     assert sorted(files) == ["manifest.json", "shard-00000.npz", "shard-00001.npz", "shard-00002.npz"]
     manifest = json.loads(files["manifest.json"])
     assert manifest["format"] == "kinetix-levelset/1" and manifest["count"] == 40
     assert manifest["settings"]["filters"] == {"noop": True, "random_attempts": 3, "random_max_rate": 0.5}
 
     again = runner.invoke(app, [*args, "--out", str(out)])  # a finished set: nothing to do, nothing changes
-    assert again.exit_code == 0 and {p.name: p.read_bytes() for p in out.iterdir()} == files
+    assert again.exit_code == 0 and files_of(out) == files
 
     info = runner.invoke(app, ["levels", "info", str(out), "--json"])
     stats = json.loads(info.output)
@@ -38,6 +53,19 @@ def test_generate_info_show_export(tmp_path):
     assert runner.invoke(app, ["levels", "export", str(out), "--index", "39", "-o", str(level_json)]).exit_code == 0
     spec = load_level(level_json)
     assert spec.size == "s" and spec.description
+
+
+def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
+    # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
+    # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0
+    run_ok(processes([*GENERATE, "--out", tmp_path / "two-processes"], cache_env(tmp_path / "cache")))
+    assert files_of(tmp_path / "two-processes") == files_of(generated)
+
+
+@pytest.mark.slow
+def test_two_devices_write_the_set_of_one_device(tmp_path, generated):
+    run_ok([start([*GENERATE, "--out", tmp_path / "two-devices"], cache_env(tmp_path / "cache"), XLA_FLAGS=FORCE_2)])
+    assert files_of(tmp_path / "two-devices") == files_of(generated)
 
 
 @pytest.mark.parametrize(
