@@ -166,7 +166,7 @@ def _restore_raw(path: Path) -> tuple[ExperimentConfig, dict, Path]:
 def _on_one_device(step_dir: Path):
     """The abstract tree of a checkpoint (from its metadata) placed on this process's first device: a
     checkpoint written by a run on several devices or processes reads back anywhere."""
-    metadata = ocp.StandardCheckpointer().metadata(step_dir / "default").item_metadata.tree
+    metadata = ocp.StandardCheckpointer().metadata(step_dir.resolve() / "default").item_metadata.tree  # absolute
     device = jax.sharding.SingleDeviceSharding(jax.local_devices()[0])
     return jax.tree.map(lambda m: jax.ShapeDtypeStruct(m.shape, m.dtype, sharding=device), metadata)
 

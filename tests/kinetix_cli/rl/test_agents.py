@@ -116,3 +116,11 @@ def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
     wrong.write_text(json.dumps({"format": "kinetix-eval/1", "policy": "elsewhere", "attempts": 2, "suites": {}}))
     with pytest.raises(UserError, match="policy: evaluates 'elsewhere'"):
         agents.export_agent(tiny_run, tmp_path / "c", name="c", version=1, commands=[], evaluation=wrong)
+
+
+def test_a_run_named_by_a_relative_path_loads(tiny_run, monkeypatch):
+    # orbax reads checkpoint metadata only through absolute paths; users type relative ones (runs/NAME)
+    params = load_checkpoint(tiny_run)[1]
+    monkeypatch.chdir(tiny_run.parent)
+    again = load_checkpoint(tiny_run.name)[1]
+    assert all(np.array_equal(a, b) for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(again), strict=True))
