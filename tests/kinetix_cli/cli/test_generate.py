@@ -55,6 +55,7 @@ def test_generate_info_show_export(tmp_path, generated):
     assert spec.size == "s" and spec.description
 
 
+@pytest.mark.slow  # real processes that compile: make test-all
 def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
     # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
     # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0

@@ -1,4 +1,6 @@
-"""Training across devices and processes gives the run of one device: the tiny run (6 updates, evaluations and
+"""(The runs of real processes are in `make test-all`: they compile in every process, minutes on 2 cores.)
+
+Training across devices and processes gives the run of one device: the tiny run (6 updates, evaluations and
 checkpoints included) on 1 device (in this process), as 2 processes of one device each on localhost (gloo
 collectives), and (test-all) on 2 forced host devices in one process. A killed peer stops the others with one
 line.
@@ -59,6 +61,7 @@ def metrics(run_dir: Path) -> list[dict]:
     return [{k: v for k, v in json.loads(line).items() if k != "sps"} for line in lines]
 
 
+@pytest.mark.slow  # real processes that compile: make test-all
 def test_two_processes_train_as_one_device(tiny_run, two_process_run):
     for a, b in zip(params(tiny_run), params(two_process_run), strict=True):
         np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
@@ -72,6 +75,7 @@ def test_two_processes_train_as_one_device(tiny_run, two_process_run):
 SHORT_SFL = [*SFL, "ppo.total_timesteps=384", "run.checkpoint_every=3"]  # 6 updates, refreshes before 1, 3 and 5
 
 
+@pytest.mark.slow  # real processes that compile: make test-all
 def test_an_sfl_run_on_two_processes_trains_as_on_one_device(tmp_path, env, sfl_run):
     # the first 6 updates of the session's tiny SFL run (1 device; its total steps do not change them: constant
     # lr and entropy weight) against a 6-update run on 2 processes; the losses, entropy and buffer metrics of
@@ -92,6 +96,7 @@ def test_two_devices_train_as_two_processes(two_device_run, two_process_run):
     assert metrics(two_device_run) == metrics(two_process_run)
 
 
+@pytest.mark.slow  # real processes that compile: make test-all
 def test_a_killed_peer_stops_the_other_with_one_line(tmp_path, env, two_process_run):
     # the same run as `two_process_run` (its compiles are in the cache); process 1 is killed as soon as process 0
     # has written the run's config, so process 0 is waiting for it in the run's first steps
