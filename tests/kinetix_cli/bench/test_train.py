@@ -13,23 +13,21 @@ from kinetix_cli.errors import UserError
 TINY = {"envs": (4,), "num_steps": 4, "epochs": 1, "minibatches": 2, "width": 8, "layers": 1, "min_time": 0.0}
 
 
-def test_train_bench_writes_one_row_per_model(tmp_path):
+def test_train_bench_writes_a_row_per_model_and_device_count(tmp_path):
     from typer.testing import CliRunner
 
     from kinetix_cli.cli.app import app
 
     out = tmp_path / "train.json"
-    args = ["bench", "train", "--models", "flat-mlp,pi-mlp", "--envs", "4", "--steps", "4", "--epochs", "1"]
+    args = ["bench", "train", "--models", "pi-mlp", "--envs", "4", "--steps", "4", "--epochs", "1"]
     args += ["--minibatches", "2", "--width", "8", "--layers", "1", "--min-time", "0", "--json", str(out)]
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     report = json.loads(out.read_text())
     assert report["format"] == "kinetix-bench/1"
     rows = report["results"]
-    assert [(r["model"], r["observation"], r["envs"]) for r in rows] == [
-        ("flat-mlp", "symbolic-flat", 4),
-        ("pi-mlp", "symbolic-entity", 4),
-    ]
+    expected = [("pi-mlp", "symbolic-entity", 4, 1)]
+    assert [(r["model"], r["observation"], r["envs"], r["devices"]) for r in rows] == expected
     assert all(r["steps_per_s"] > 0 and r["calls"] >= 2 and r["parameters"] > 0 for r in rows)
 
 
