@@ -250,8 +250,3 @@ def _global(x, sharding: NamedSharding):
         return jax.random.wrap_key_data(_global(data, sharding), impl=impl)
     host = np.asarray(x)
     return jax.make_array_from_callback(host.shape, sharding, lambda index: host[index])
-
-
-def to_host(tree):
-    """Every leaf as a numpy array (leaves must be replicated or addressable in full by this process)."""
-    return jax.tree.map(np.asarray, tree)

@@ -38,11 +38,11 @@ from kinetix_cli.config import (
 )
 from kinetix_cli.constants import VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env
-from kinetix_cli.env.level import Level
+from kinetix_cli.env.level import Level, to_host
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir
 from kinetix_cli.levels.files import level_paths, load_level
-from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, to_host, using
+from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, using
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner, save_runner
