@@ -72,7 +72,7 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests
 
 test: lint reference-levels $(CMP_STAMP)
-	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --durations=15 $(PYTEST_FLAGS)
+	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --dist loadgroup --durations=15 $(PYTEST_FLAGS)
 
 test-all: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)

@@ -21,7 +21,11 @@ def _batch(static: Static, count: int, seed: int = 0):
     return states, actions
 
 
-@pytest.mark.parametrize("size", ["s", "m", pytest.param("l", marks=pytest.mark.slow)])  # l: m's code, more slots
+SLOW_M_L = ["s", pytest.param("m", marks=pytest.mark.slow), pytest.param("l", marks=pytest.mark.slow)]
+"""Sizes: s in `make test`, m and l (more slots: compiles of 10-15 s each) in `make test-all`."""
+
+
+@pytest.mark.parametrize("size", SLOW_M_L)
 def test_no_nan_over_1e5_random_steps(size):
     """128 random scenes x 840 steps (>= 10^5 scene-steps) per size: finite state, positions inside the clip box,
     speeds within the clip bounds."""

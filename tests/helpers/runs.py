@@ -3,6 +3,8 @@ values) reuses one compiled PPO update and one compiled evaluator per session.""
 
 from __future__ import annotations
 
+import pytest
+
 from helpers.paths import EXPERIMENTS, REFERENCE_LEVELS
 from kinetix_cli.config import ExperimentConfig, load_config
 
@@ -48,6 +50,11 @@ SFL = [
     "run.eval_every=0",
 ]
 """`--set` values of the tiny SFL run, on top of `TINY`: the learning smoke test and the SFL run tests share it."""
+
+
+SFL_RUN_GROUP = pytest.mark.xdist_group("sfl-run")
+"""`pytestmark` of the modules that use the session's tiny SFL run: `make test` (xdist, `--dist loadgroup`) runs them
+in one worker, which makes the run once."""
 
 
 def sfl_config(*overrides: str) -> ExperimentConfig:

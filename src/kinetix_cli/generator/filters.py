@@ -27,7 +27,7 @@ from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.sampler import SamplerConfig, default_config, is_valid, sample_level
-from kinetix_cli.parallel import batch_sharded, replicate, replicated, using
+from kinetix_cli.parallel import batch_sharded, make_mesh, replicate, replicated, using
 
 FILTER_SETTINGS = EnvSettings(observation="symbolic-flat")
 """The environment the filter episodes run in (the size is the chunk's; the observation is never computed)."""
@@ -165,8 +165,9 @@ def _row(x: np.ndarray, row: int) -> np.ndarray:
 
 
 def generate_chunk(config: GenerateConfig, seed: int, index: int) -> tuple[Level, dict]:
-    """Chunk `index` of the set on one device (see `generate_chunks`)."""
-    return generate_chunks(config, seed, range(index, index + 1))[0]
+    """Chunk `index` of the set on this process's first device: the program `kinetix generate` runs on one device
+    (see `generate_chunks`)."""
+    return generate_chunks(config, seed, range(index, index + 1), make_mesh(1, local_only=True))[0]
 
 
 def chunk_source(config: GenerateConfig, seed: int, mesh: Mesh | None = None) -> Callable[[int], tuple[Level, dict]]:

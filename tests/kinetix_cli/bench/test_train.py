@@ -13,6 +13,7 @@ from kinetix_cli.errors import UserError
 TINY = {"envs": (4,), "num_steps": 4, "epochs": 1, "minibatches": 2, "width": 8, "layers": 1, "min_time": 0.0}
 
 
+@pytest.mark.slow  # a PPO update compile (~20 s): make test-all; the option checks below stay in make test
 def test_train_bench_writes_a_row_per_model_and_device_count(tmp_path):
     from typer.testing import CliRunner
 

@@ -13,6 +13,7 @@ from helpers.processes import FORCE_2, cache_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
 from kinetix_cli.levels.files import load_level
 
+pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_filters: one worker compiles the chunk program
 runner = CliRunner()
 CHUNK = 32
 
@@ -55,7 +56,6 @@ def test_generate_info_show_export(tmp_path, generated):
     assert spec.size == "s" and spec.description
 
 
-@pytest.mark.slow  # real processes that compile: make test-all
 def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
     # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
     # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0

@@ -82,7 +82,9 @@ def _random_steps(env: KinetixEnv, levels, key):
     return jax.vmap(one)(levels, keys)
 
 
-@pytest.mark.parametrize("size", ["s", "m", pytest.param("l", marks=pytest.mark.slow)])  # l: 12 s of compile
+@pytest.mark.parametrize(
+    "size", ["s", pytest.param("m", marks=pytest.mark.slow), pytest.param("l", marks=pytest.mark.slow)]
+)  # m and l: 12-14 s of compile each (make test-all)
 def test_reference_levels_step_256_random_steps_without_nan(size):
     files, specs = converted(size)
     finite = np.asarray(

@@ -35,6 +35,8 @@ from kinetix_cli.bench.jax2d import jax2d_from_reference, jax2d_static, referenc
 from kinetix_cli.levels.parse import parse_level  # noqa: E402
 from kinetix_cli.levels.reference import convert_reference_level  # noqa: E402
 
+pytestmark = pytest.mark.slow  # both engines compile (~60 s of a 2-core CPU): make test-all
+
 REFERENCE = REFERENCE_LEVELS
 STATIC = SIZES["s"]  # 5 polygons (4 arena), 2 circles, 1 joint, 1 thruster
 STEPS = 60  # 1 s at dt = 1/60

@@ -1,9 +1,8 @@
-"""(The runs of real processes are in `make test-all`: they compile in every process, minutes on 2 cores.)
-
-Training across devices and processes gives the run of one device: the tiny run (6 updates, evaluations and
-checkpoints included) on 1 device (in this process), as 2 processes of one device each on localhost (gloo
-collectives), and (test-all) on 2 forced host devices in one process. A killed peer stops the others with one
-line.
+"""Training across devices and processes gives the run of one device. The tiny run's first 4 updates (checkpoints 2
+and 4, no evaluation) on 2 forced host devices in one process and as 2 processes of one device each on localhost
+(gloo collectives), against the session's tiny run (1 device, this process) at its checkpoint 4; the tiny SFL run's
+first 6 updates on 2 devices against its first 6 on 1; a killed peer stops the other with one line. (make test-all:
+kill -9 of either process, then --resume.) Each `kinetix` process compiles its own programs: ~20 s of CPU each.
 
 The 2-device program splits every batch and averages the gradient with an all-reduce, so its sums run in
 another order than the 1-device program's: parameters agree to float32 rounding (`PARAMS_ATOL`), not bit for
@@ -22,11 +21,15 @@ import numpy as np
 import pytest
 
 from helpers.processes import FORCE_2, TIMEOUT, cache_env, finish, processes, run_ok, start
-from helpers.runs import SFL, TINY, set_args, sfl_config
+from helpers.runs import SFL, SFL_RUN_GROUP, TINY, set_args, sfl_config
 from kinetix_cli.parallel import PEER_LOST_EXIT
 from kinetix_cli.rl.checkpoints import load_policy
 
+pytestmark = SFL_RUN_GROUP
+
 PRETRAIN = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
+FOUR = [*PRETRAIN, "--set", "ppo.total_timesteps=256", "--set", "run.eval_every=0"]
+"""The tiny run's first 4 updates (training keys do not depend on evaluation or the total)."""
 PARAMS_ATOL = 1e-5
 """Parameters of 1 device vs 2: the split batch sums the loss in another order, which changes the gradient's last
 bits; Adam divides by the gradient's running scale, so a parameter whose gradient is near 0 can move by a visible
@@ -41,67 +44,70 @@ def env(tmp_path_factory):
 @pytest.fixture(scope="module")
 def two_device_run(tmp_path_factory, env):
     run_dir = tmp_path_factory.mktemp("parallel") / "two-devices"
-    run_ok([start([*PRETRAIN, "--run-dir", run_dir], env, XLA_FLAGS=FORCE_2)])
+    run_ok([start([*FOUR, "--run-dir", run_dir], env, XLA_FLAGS=FORCE_2)])
     return run_dir
 
 
 @pytest.fixture(scope="module")
 def two_process_run(tmp_path_factory, env):
     run_dir = tmp_path_factory.mktemp("parallel") / "two-processes"
-    run_ok(processes([*PRETRAIN, "--run-dir", run_dir], env))
+    run_ok(processes([*FOUR, "--run-dir", run_dir], env))
     return run_dir
 
 
-def params(run_dir: Path) -> list[np.ndarray]:
-    return jax.tree.leaves(load_policy(run_dir)[1])
+def params(path: Path) -> list[np.ndarray]:
+    """The parameters of a run's latest checkpoint, or of one checkpoint folder."""
+    return jax.tree.leaves(load_policy(path)[1])
 
 
-def metrics(run_dir: Path) -> list[dict]:
-    lines = (run_dir / "metrics.jsonl").read_text().splitlines()
-    return [{k: v for k, v in json.loads(line).items() if k != "sps"} for line in lines]
+def metrics(run_dir: Path, updates: int | None = None) -> list[dict]:
+    """The first `updates` lines of the run's metrics, without its speed and evaluations."""
+    lines = (run_dir / "metrics.jsonl").read_text().splitlines()[:updates]
+    return [{k: v for k, v in json.loads(line).items() if k != "sps" and not k.startswith("eval_")} for line in lines]
 
 
-@pytest.mark.slow  # real processes that compile: make test-all
-def test_two_processes_train_as_one_device(tiny_run, two_process_run):
-    for a, b in zip(params(tiny_run), params(two_process_run), strict=True):
-        np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
-    one, two = metrics(tiny_run), metrics(two_process_run)
-    assert [r.keys() for r in one] == [r.keys() for r in two]  # process 0 wrote one line per update, evaluations too
-    for a, b in zip(one, two, strict=True):
+def assert_close(one: list[dict], other: list[dict]) -> None:
+    assert [r.keys() for r in one] == [r.keys() for r in other]
+    for a, b in zip(one, other, strict=True):
         np.testing.assert_allclose([a[k] for k in a], [b[k] for k in a], rtol=1e-4, atol=1e-6)
-    assert sorted(p.name for p in (two_process_run / "checkpoints").iterdir()) == ["2", "4", "6"]
+
+
+def test_two_devices_train_as_one_device(tiny_run, two_device_run):
+    for a, b in zip(params(tiny_run / "checkpoints" / "4"), params(two_device_run), strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
+    assert_close(metrics(tiny_run, 4), metrics(two_device_run))
+    assert sorted(p.name for p in (two_device_run / "checkpoints").iterdir()) == ["2", "4"]
+
+
+def test_two_processes_train_as_two_devices_bit_for_bit(tiny_run, two_device_run, two_process_run):
+    for a, b in zip(params(two_device_run), params(two_process_run), strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert metrics(two_device_run) == metrics(two_process_run)  # process 0 wrote one line per update
+    for a, b in zip(params(tiny_run / "checkpoints" / "4"), params(two_process_run), strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
+    assert sorted(p.name for p in (two_process_run / "checkpoints").iterdir()) == ["2", "4"]
 
 
 SHORT_SFL = [*SFL, "ppo.total_timesteps=384", "run.checkpoint_every=3"]  # 6 updates, refreshes before 1, 3 and 5
 
 
-@pytest.mark.slow  # real processes that compile: make test-all
-def test_an_sfl_run_on_two_processes_trains_as_on_one_device(tmp_path, env, sfl_run):
+def test_an_sfl_run_on_two_devices_trains_as_on_one_device(tmp_path, env, sfl_run):
     # the first 6 updates of the session's tiny SFL run (1 device; its total steps do not change them: constant
-    # lr and entropy weight) against a 6-update run on 2 processes; the losses, entropy and buffer metrics of
-    # every update follow from the parameters and buffer before it
-    both = tmp_path / "two-processes"
-    run_ok(processes([*PRETRAIN, *set_args(SHORT_SFL), "--run-dir", both], env))
-    one = metrics(sfl_run[1])[:6]
+    # lr and entropy weight) against a 6-update run on 2 devices: the losses, entropy and buffer metrics of every
+    # update follow from the parameters and buffer before it (the 1-device run has no checkpoint at 6)
+    two = tmp_path / "two-devices"
+    run_ok([start([*PRETRAIN, *set_args(SHORT_SFL), "--run-dir", two], env, XLA_FLAGS=FORCE_2)])
     assert sfl_config().ppo.anneal_lr is False and sfl_config().ppo.ent_coef_end is None
-    for a, b in zip(one, metrics(both), strict=True):  # the buffers' metrics too: scoring split, one buffer
-        assert a.keys() == b.keys() and "buffer_score" in a
-        np.testing.assert_allclose([a[k] for k in a], [b[k] for k in a], rtol=1e-4, atol=1e-6)
+    one = metrics(sfl_run[1], 6)
+    assert "buffer_score" in one[0]  # the buffers' metrics too: scoring split, one buffer
+    assert_close(one, metrics(two))
 
 
-@pytest.mark.slow
-def test_two_devices_train_as_two_processes(two_device_run, two_process_run):
-    for a, b in zip(params(two_device_run), params(two_process_run), strict=True):
-        np.testing.assert_array_equal(a, b)
-    assert metrics(two_device_run) == metrics(two_process_run)
-
-
-@pytest.mark.slow  # real processes that compile: make test-all
 def test_a_killed_peer_stops_the_other_with_one_line(tmp_path, env, two_process_run):
     # the same run as `two_process_run` (its compiles are in the cache); process 1 is killed as soon as process 0
     # has written the run's config, so process 0 is waiting for it in the run's first steps
     run_dir = tmp_path / "killed"
-    first, second = processes([*PRETRAIN, "--run-dir", run_dir], env)
+    first, second = processes([*FOUR, "--run-dir", run_dir], env)
     deadline = time.monotonic() + TIMEOUT
     while not (run_dir / "config.yaml").exists():
         assert time.monotonic() < deadline and first.poll() is None and second.poll() is None, "did not start"
