@@ -16,7 +16,10 @@ writes the run's files.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import os
+import signal
+import subprocess
 import sys
 import threading
 import time
@@ -62,6 +65,8 @@ def initialize(coordinator: str | None, num_processes: int | None, process_id: i
         host, _, port = coordinator.rpartition(":")
         if not host or not port.isdigit():
             raise UserError(f"--coordinator: expected HOST:PORT, got {coordinator!r}")
+    if auto or num_processes > 1:
+        _supervised(process_id)
     jax.config.update("jax_cpu_collectives_implementation", "gloo")
     jax.config.update("jax_enable_preemption_service", False)  # TPU preemption notices: not used here
     try:
@@ -142,6 +147,44 @@ def _stop(line: str) -> None:
     sys.stderr.write(f"error: {line}; rerun every process with --resume to continue from the last checkpoint\n")
     sys.stderr.flush()
     os._exit(PEER_LOST_EXIT)
+
+
+_SUPERVISOR = "KINETIX_SUPERVISOR"
+"""Set in the worker process that `_supervised` starts: its supervisor's pid."""
+_RUNTIME_ABORT = (
+    "Polled an error from coordination service",
+    "Terminating process because the JAX distributed service detected fatal errors",
+)
+"""How jax's runtime starts the messages with which it aborts a process whose coordinator (process 0) is gone."""
+
+
+def _supervised(process_id: int | None) -> None:
+    """Run this command in a worker process under a small supervisor (this process), which passes the worker's
+    stderr through and exits with its code, except for one case: when process 0 dies, jax's runtime aborts the
+    others with a fatal message and a C++ stack trace (no Python hook can replace it in jax 0.10.2); the
+    supervisor prints one line instead and exits with `PEER_LOST_EXIT`. Returns in the worker; never returns in
+    the supervisor. The worker dies with its supervisor (Linux: PR_SET_PDEATHSIG), so killing either kills both."""
+    if os.environ.get(_SUPERVISOR):  # the worker
+        if sys.platform == "linux":
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+        if str(os.getppid()) != os.environ[_SUPERVISOR]:  # the supervisor died before that
+            os._exit(PEER_LOST_EXIT)
+        return
+    env = os.environ | {_SUPERVISOR: str(os.getpid())}
+    worker = subprocess.Popen(sys.orig_argv, env=env, stderr=subprocess.PIPE, text=True, errors="replace")
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the worker from the terminal itself
+    signal.signal(signal.SIGTERM, lambda signum, frame: worker.send_signal(signum))
+    aborted = False
+    for line in worker.stderr:
+        aborted = aborted or any(text in line for text in _RUNTIME_ABORT)
+        if not aborted:  # the abort message and its stack trace are dropped
+            sys.stderr.write(line)
+            sys.stderr.flush()
+    code = worker.wait()
+    if aborted:
+        who = "" if process_id is None else f"process {process_id}: "
+        _stop(f"{who}lost the coordinator (process 0); the run stopped")
+    os._exit(code if code >= 0 else 128 - code)
 
 
 def process_index() -> int:
