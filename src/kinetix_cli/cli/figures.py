@@ -1,4 +1,5 @@
-"""`kinetix plot`: learning curves of runs (figures for a person, numbers for a program)."""
+"""`kinetix plot` and `kinetix compare`: learning curves of runs and evaluations side by side (figures for a
+person, numbers for a program)."""
 
 from __future__ import annotations
 
@@ -43,8 +44,7 @@ def plot(
     for path, flag in outputs:
         if path is not None:
             check_output_file(path, flag)
-    if output is not None and output.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise UserError(f"-o {output}: unknown figure type {output.suffix!r}; use .png, .svg or .pdf")
+    _check_figure_type(output)
     curves = learning_curves(runs, _split(metric) or ["solve_rate"], x, _split(group) or None)
     rows = [row for c in curves for row in c.rows()]
     if output is not None:
@@ -61,3 +61,57 @@ def plot(
         writer.writerows(rows)
         atomic_write_text(csv_out, text.getvalue())
         say(f"wrote {csv_out}")
+
+
+COMPARE_FORMAT = "kinetix-compare/1"
+
+
+@commands.command()
+def compare(
+    files: list[Path] = typer.Argument(..., help="Two or more `kinetix eval --json` files."),
+    as_markdown: bool = typer.Option(False, "--markdown", help="Print a Markdown table instead of a terminal table."),
+    output: Path = typer.Option(None, "-o", "--output", help="Also draw a bar chart (PNG, SVG or PDF)."),
+    json_out: Path = typer.Option(None, "--json", help="Also write the table as JSON."),
+) -> None:
+    """Solve rates per level and per suite of several evaluations side by side (DR vs SFL, fine-tuned vs from
+    scratch, ...), with the difference of the last from the first."""
+    from rich.table import Table
+
+    from kinetix_cli.cli.console import console
+    from kinetix_cli.io import atomic_write, atomic_write_json, check_output_file
+    from kinetix_cli.viz.compare import compare as compare_files
+    from kinetix_cli.viz.compare import draw, markdown
+
+    for path, flag in [(output, "-o"), (json_out, "--json")]:
+        if path is not None:
+            check_output_file(path, flag)
+    _check_figure_type(output)
+    columns, rows = compare_files(files)
+    if as_markdown:
+        print(markdown(columns, rows), end="")
+    else:
+        table = Table("level / suite", *columns, f"{columns[-1]} - {columns[0]}")
+        for row in rows:
+            rates = ["-" if r is None else f"{100 * r:.1f}%" for r in row.rates]
+            diff = "-" if row.difference is None else f"{100 * row.difference:+.1f}"
+            table.add_row(row.name if row.kind == "level" else f"{row.name} (mean)", *rates, diff)
+        console.print(table)
+    if output is not None:
+        figure = draw(columns, rows)
+        atomic_write(output, lambda f: figure.savefig(f, format=output.suffix.lower()[1:], dpi=120))
+        say(f"wrote {output}")
+    if json_out is not None:
+        table_rows = [
+            {"kind": r.kind, "name": r.name, "solve_rates": dict(zip(columns, r.rates, strict=True)),
+             "difference": r.difference}
+            for r in rows
+        ]  # fmt: skip
+        atomic_write_json(json_out, {"files": [str(f) for f in files], "rows": table_rows}, COMPARE_FORMAT)
+        say(f"wrote {json_out}")
+
+
+def _check_figure_type(output: Path | None) -> None:
+    from kinetix_cli.errors import UserError
+
+    if output is not None and output.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise UserError(f"-o {output}: unknown figure type {output.suffix!r}; use .png, .svg or .pdf")
