@@ -181,7 +181,7 @@ def _supervised(process_id: int | None) -> None:
             sys.stderr.write(line)
             sys.stderr.flush()
     code = worker.wait()
-    if aborted:
+    if aborted and code != 0:  # (a worker that still ended well keeps its own exit code)
         who = "" if process_id is None else f"process {process_id}: "
         _stop(f"{who}lost the coordinator (process 0); the run stopped")
     os._exit(code if code >= 0 else 128 - code)

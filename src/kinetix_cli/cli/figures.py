@@ -35,21 +35,16 @@ def plot(
     """Learning curves of runs: one panel per metric, one line per group of runs with the spread over its seeds
     (min to max, shaded). Runs that differ only in their seed form one group; the legend names what differs."""
     from kinetix_cli.errors import UserError
-    from kinetix_cli.io import atomic_write, atomic_write_json, atomic_write_text, check_output_file
+    from kinetix_cli.io import atomic_write_json, atomic_write_text
     from kinetix_cli.viz.curves import draw, learning_curves
 
     if output is None and json_out is None and csv_out is None:
         raise UserError("plot: give -o FIGURE, --json FILE or --csv FILE")
-    outputs = [(output, "-o"), (json_out, "--json"), (csv_out, "--csv")]
-    for path, flag in outputs:
-        if path is not None:
-            check_output_file(path, flag)
-    _check_figure_type(output)
+    _check_outputs(output, [(json_out, "--json"), (csv_out, "--csv")])
     curves = learning_curves(runs, _split(metric) or ["solve_rate"], x, _split(group) or None)
     rows = [row for c in curves for row in c.rows()]
     if output is not None:
-        figure = draw(curves, x)
-        atomic_write(output, lambda f: figure.savefig(f, format=output.suffix.lower()[1:], dpi=120))
+        _save_figure(draw(curves, x), output)
         say(f"wrote {output} ({len(curves)} curves)")
     if json_out is not None:
         atomic_write_json(json_out, {"x": x, "points": rows}, PLOT_FORMAT)
@@ -78,14 +73,11 @@ def compare(
     from rich.table import Table
 
     from kinetix_cli.cli.console import console
-    from kinetix_cli.io import atomic_write, atomic_write_json, check_output_file
+    from kinetix_cli.io import atomic_write_json
     from kinetix_cli.viz.compare import compare as compare_files
     from kinetix_cli.viz.compare import draw, markdown
 
-    for path, flag in [(output, "-o"), (json_out, "--json")]:
-        if path is not None:
-            check_output_file(path, flag)
-    _check_figure_type(output)
+    _check_outputs(output, [(json_out, "--json")])
     columns, rows = compare_files(files)
     if as_markdown:
         print(markdown(columns, rows), end="")
@@ -97,8 +89,7 @@ def compare(
             table.add_row(row.name if row.kind == "level" else f"{row.name} (mean)", *rates, diff)
         console.print(table)
     if output is not None:
-        figure = draw(columns, rows)
-        atomic_write(output, lambda f: figure.savefig(f, format=output.suffix.lower()[1:], dpi=120))
+        _save_figure(draw(columns, rows), output)
         say(f"wrote {output}")
     if json_out is not None:
         table_rows = [
@@ -110,8 +101,23 @@ def compare(
         say(f"wrote {json_out}")
 
 
-def _check_figure_type(output: Path | None) -> None:
-    from kinetix_cli.errors import UserError
+FIGURE_TYPES = (".png", ".svg", ".pdf")
 
-    if output is not None and output.suffix.lower() not in (".png", ".svg", ".pdf"):
-        raise UserError(f"-o {output}: unknown figure type {output.suffix!r}; use .png, .svg or .pdf")
+
+def _check_outputs(figure: Path | None, others: list[tuple[Path | None, str]]) -> None:
+    """Before any work: every output given is writable, and the figure (-o) of a type matplotlib writes."""
+    from kinetix_cli.errors import UserError
+    from kinetix_cli.io import check_output_file
+
+    for path, flag in [(figure, "-o"), *others]:
+        if path is not None:
+            check_output_file(path, flag)
+    if figure is not None and figure.suffix.lower() not in FIGURE_TYPES:
+        raise UserError(f"-o {figure}: unknown figure type {figure.suffix!r}; use .png, .svg or .pdf")
+
+
+def _save_figure(figure, path: Path) -> None:
+    """Write a matplotlib figure atomically, in the type its file name ends with."""
+    from kinetix_cli.io import atomic_write
+
+    atomic_write(path, lambda f: figure.savefig(f, format=path.suffix.lower()[1:], dpi=120))
