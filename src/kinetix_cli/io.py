@@ -12,11 +12,13 @@ Output discipline, for every file the toolkit writes:
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import shutil
 import stat
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, BinaryIO
 
@@ -114,6 +116,29 @@ def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> 
     finally:
         if tmp is not None:
             Path(tmp).unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def atomic_folder(out: Path, flag: str) -> Iterator[Path]:
+    """Write a folder whole or not at all: yields an empty folder beside `out` to fill; when the block ends
+    well it takes `out`'s place (an existing `out` moves aside first, so a kill leaves one whole folder or the
+    other), otherwise it is removed. A failed write is a `UserError` naming `flag` and `out`."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    try:
+        staging.chmod(0o777 & ~current_umask())  # mkdtemp makes it private; the folder is an ordinary one
+        yield staging
+        if out.exists():
+            old = staging.with_suffix(".old")
+            out.rename(old)
+            staging.rename(out)
+            shutil.rmtree(old)
+        else:
+            staging.rename(out)
+    except OSError as exc:
+        raise UserError(f"{flag} {out}: cannot write: {exc.strerror or exc}") from None
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
 
 
 def current_umask() -> int:

@@ -3,7 +3,11 @@ values) reuses one compiled PPO update and one compiled evaluator per session.""
 
 from __future__ import annotations
 
+import json
+import shutil
+
 import pytest
+import yaml
 
 from helpers.paths import EXPERIMENTS, REFERENCE_LEVELS
 from kinetix_cli.config import ExperimentConfig, load_config
@@ -65,3 +69,18 @@ def sfl_config(*overrides: str) -> ExperimentConfig:
 def set_args(overrides: list[str]) -> list[str]:
     """`--set` command-line arguments for `overrides`."""
     return [arg for value in overrides for arg in ("--set", value)]
+
+
+def copy_run(source, dest, settings=(), shift=0.0):
+    """A copy of the run `source` with config `settings` ((section.key, value), ...) and every `return` + shift."""
+    shutil.copytree(source, dest)
+    config = yaml.safe_load((dest / "config.yaml").read_text())
+    for key, value in settings:
+        section, name = key.split(".")
+        config[section][name] = value
+    (dest / "config.yaml").write_text(yaml.safe_dump(config))
+    lines = [json.loads(line) for line in (dest / "metrics.jsonl").read_text().splitlines()]
+    for line in lines:
+        line["return"] += shift
+    (dest / "metrics.jsonl").write_text("".join(json.dumps(line) + "\n" for line in lines))
+    return dest

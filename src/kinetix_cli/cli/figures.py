@@ -10,10 +10,9 @@ from pathlib import Path
 import typer
 
 from kinetix_cli.cli.console import say
+from kinetix_cli.constants import COMPARE_FORMAT, CURVES_FORMAT
 
 commands = typer.Typer()
-
-PLOT_FORMAT = "kinetix-curves/1"
 
 
 def _split(text: str | None) -> list[str]:
@@ -36,7 +35,7 @@ def plot(
     (min to max, shaded). Runs that differ only in their seed form one group; the legend names what differs."""
     from kinetix_cli.errors import UserError
     from kinetix_cli.io import atomic_write_json, atomic_write_text
-    from kinetix_cli.viz.curves import draw, learning_curves
+    from kinetix_cli.viz.curves import draw, learning_curves, save_figure
 
     if output is None and json_out is None and csv_out is None:
         raise UserError("plot: give -o FIGURE, --json FILE or --csv FILE")
@@ -44,10 +43,10 @@ def plot(
     curves = learning_curves(runs, _split(metric) or ["solve_rate"], x, _split(group) or None)
     rows = [row for c in curves for row in c.rows()]
     if output is not None:
-        _save_figure(draw(curves, x), output)
+        save_figure(draw(curves, x), output)
         say(f"wrote {output} ({len(curves)} curves)")
     if json_out is not None:
-        atomic_write_json(json_out, {"x": x, "points": rows}, PLOT_FORMAT)
+        atomic_write_json(json_out, {"x": x, "points": rows}, CURVES_FORMAT)
         say(f"wrote {json_out}")
     if csv_out is not None:
         text = io.StringIO()
@@ -56,9 +55,6 @@ def plot(
         writer.writerows(rows)
         atomic_write_text(csv_out, text.getvalue())
         say(f"wrote {csv_out}")
-
-
-COMPARE_FORMAT = "kinetix-compare/1"
 
 
 @commands.command()
@@ -76,6 +72,7 @@ def compare(
     from kinetix_cli.io import atomic_write_json
     from kinetix_cli.viz.compare import compare as compare_files
     from kinetix_cli.viz.compare import draw, markdown
+    from kinetix_cli.viz.curves import save_figure
 
     _check_outputs(output, [(json_out, "--json")])
     columns, rows = compare_files(files)
@@ -89,7 +86,7 @@ def compare(
             table.add_row(row.name if row.kind == "level" else f"{row.name} (mean)", *rates, diff)
         console.print(table)
     if output is not None:
-        _save_figure(draw(columns, rows), output)
+        save_figure(draw(columns, rows), output)
         say(f"wrote {output}")
     if json_out is not None:
         table_rows = [
@@ -116,8 +113,31 @@ def _check_outputs(figure: Path | None, others: list[tuple[Path | None, str]]) -
         raise UserError(f"-o {figure}: unknown figure type {figure.suffix!r}; use .png, .svg or .pdf")
 
 
-def _save_figure(figure, path: Path) -> None:
-    """Write a matplotlib figure atomically, in the type its file name ends with."""
-    from kinetix_cli.io import atomic_write
+@commands.command()
+def report(
+    runs: list[Path] = typer.Argument(..., help="Run directories (pretrain or finetune; several seeds are grouped)."),
+    out: Path = typer.Option(..., "-o", "--out", help="Report folder to write (index.html and its images)."),
+    group: str = typer.Option(
+        None, "--group", help="Comma-separated config keys to group runs by (default: runs differing only in seed)."
+    ),
+    evaluation: list[Path] = typer.Option(
+        [], "--eval", help="A kinetix eval --json file per run, in run order, instead of each run's latest."
+    ),
+    gifs: bool = typer.Option(True, "--gifs/--no-gifs", help="Play each evaluated level for a GIF of the agent."),
+) -> None:
+    """A static page of runs (DIR/index.html, opens from disk in any browser): learning curves, the latest
+    evaluation with each level's picture and a GIF of the agent, the curriculum buffer's top levels, the resolved
+    config and the library versions; report.json holds its numbers."""
+    from kinetix_cli.errors import UserError
+    from kinetix_cli.io import check_output_dir
+    from kinetix_cli.viz.report import REPORT_FILES, write_report
 
-    atomic_write(path, lambda f: figure.savefig(f, format=path.suffix.lower()[1:], dpi=120))
+    out = check_output_dir(out, "-o")
+    if out.is_dir() and any(out.iterdir()) and not all((out / f).is_file() for f in REPORT_FILES):
+        raise UserError(f"-o {out}: not empty and not a report folder; choose a new folder")
+    payload = write_report(
+        runs, out, group_by=_split(group) or None, evaluations=evaluation or None, gifs=gifs, progress=say
+    )
+    for note in payload["notes"]:
+        say(("note: ", "yellow"), note)
+    say(f"wrote {out / 'index.html'} ({len(payload['levels'])} levels, {len(payload['runs'])} runs)")

@@ -304,11 +304,14 @@ def levels_show(
     import math
 
     from kinetix_cli.levels.levelset import level_at, load_levelset
+    from kinetix_cli.viz.buffer import buffer_levels
     from kinetix_cli.viz.contact_sheet import contact_sheet
     from kinetix_cli.viz.render import render_level, save_png
 
     if buffer:
-        levels = _buffer_levels(path, index, max(grid, 1))
+        levels = buffer_levels(path, index, max(grid, 1))
+        if not levels:
+            raise UserError(f"{path}: the curriculum buffer is empty at the latest checkpoint")
         image = contact_sheet(levels, columns=math.ceil(math.sqrt(len(levels))))
         save_png(image, out)
         say(f"wrote {out} ({len(levels)} buffer levels)")
@@ -322,31 +325,6 @@ def levels_show(
         image = render_level(level_at(levelset, index), title=f"{path.name} level {index}")
     save_png(image, out)
     console.print(f"wrote {out}")
-
-
-def _buffer_levels(run: Path, first: int, count: int) -> list:
-    """(level, caption) of buffer levels first .. first + count - 1 of a run's latest checkpoint."""
-    import numpy as np
-
-    from engine import SIZES
-    from kinetix_cli.config import CONFIG_FILENAME, load_config
-    from kinetix_cli.env.level import index_level
-    from kinetix_cli.generator.fresh import FreshLevels
-    from kinetix_cli.rl.checkpoints import load_buffer
-
-    config_file = run / CONFIG_FILENAME
-    if not config_file.is_file():
-        raise UserError(f"{run}: not a run directory (no {CONFIG_FILENAME}); --buffer draws a training run's buffer")
-    size = load_config(config_file).env.size
-    buffer, update = load_buffer(run, FreshLevels.for_size(SIZES[size], size).placeholder())
-    filled = int(buffer.size)
-    if not 0 <= first < filled:
-        raise UserError(f"--index: {first} is out of range; the buffer holds levels 0..{filled - 1}")
-    order = np.argsort(-np.asarray(buffer.score[:filled]), kind="stable")  # best first (PLR rescores in place)
-    captions = [
-        f"#{i} p={buffer.solve_rate[j]:.2f} score={buffer.score[j]:.3f} (update {update})" for i, j in enumerate(order)
-    ]
-    return [(index_level(buffer.levels, order[i]), captions[i]) for i in range(first, min(first + count, filled))]
 
 
 @levels_app.command("sheet")

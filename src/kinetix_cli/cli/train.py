@@ -69,7 +69,8 @@ def finetune(
 
     with joined(coordinator, num_processes, process_id):
         pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
-        experiment = finetune_config(config, level_paths(levels), pretrained, overrides)
+        origin = None if source == "none" else source
+        experiment = finetune_config(config, level_paths(levels), pretrained, overrides, init_from=origin)
         _train_with_progress(experiment, run_dir, resume, params, devices)
 
 
@@ -116,13 +117,11 @@ def eval_command(
     environment settings; the episodes are split over all local devices (or --devices N)."""
     if json_path is not None:
         check_output_file(json_path, "--json")
-    import dataclasses
-
     from kinetix_cli.constants import EVAL_FORMAT
     from kinetix_cli.io import atomic_write_json
     from kinetix_cli.levels.files import level_paths
     from kinetix_cli.rl.agents import load_policy
-    from kinetix_cli.rl.evaluate import evaluate, suite_summary
+    from kinetix_cli.rl.evaluate import evaluate, evaluation_record, suite_summary
 
     config, params, update = load_policy(policy)
     results = evaluate(config, params, level_paths(levels), attempts, seed, devices)
@@ -134,13 +133,5 @@ def eval_command(
         table.add_row(Text(f"{name} ({row['levels']} levels)", style="bold"), f"{row['solve_rate']:.0%}", "", "")
     console.print(table)
     if json_path is not None:
-        payload = {
-            "policy": str(policy),
-            "update": update,
-            "attempts": attempts,
-            "seed": seed,
-            "levels": [dataclasses.asdict(r) for r in results],
-            "suites": summary,
-        }
-        atomic_write_json(json_path, payload, EVAL_FORMAT)
+        atomic_write_json(json_path, evaluation_record(str(policy), update, attempts, seed, results), EVAL_FORMAT)
         console.print(f"wrote {json_path}")

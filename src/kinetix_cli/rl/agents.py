@@ -18,8 +18,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import os
-import shutil
-import tempfile
 from pathlib import Path
 
 from flax import serialization
@@ -27,7 +25,7 @@ from flax import serialization
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
 from kinetix_cli.constants import AGENT_FORMAT, EVAL_FORMAT
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write_json, check_output_dir, current_umask, read_format
+from kinetix_cli.io import atomic_folder, atomic_write_json, check_output_dir, read_format
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
 from kinetix_cli.rl.networks import params_fit
@@ -175,24 +173,10 @@ def export_agent(
         "trained": trained,
         "evaluation": scores,
     }
-    out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
-    try:
-        staging.chmod(0o777 & ~current_umask())  # mkdtemp makes it private; the agent folder is an ordinary one
+    with atomic_folder(out, "-o") as staging:
         for file, b in data.items():
             (staging / file).write_bytes(b)
         atomic_write_json(staging / AGENT_FILE, card, AGENT_FORMAT)
-        if out.exists():  # the old agent moves aside first, so a kill leaves one whole agent or the other
-            old = staging.with_suffix(".old")
-            out.rename(old)
-            staging.rename(out)
-            shutil.rmtree(old)
-        else:
-            staging.rename(out)
-    except OSError as exc:
-        raise UserError(f"-o {out}: cannot write: {exc.strerror or exc}") from None
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
     return read_card(out)
 
 

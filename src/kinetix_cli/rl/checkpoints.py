@@ -16,6 +16,7 @@ is read unverified.
 from __future__ import annotations
 
 import hashlib
+import logging
 from pathlib import Path
 
 import jax
@@ -166,7 +167,13 @@ def _restore_raw(path: Path) -> tuple[ExperimentConfig, dict, Path]:
 def _on_one_device(step_dir: Path):
     """The abstract tree of a checkpoint (from its metadata) placed on this process's first device: a
     checkpoint written by a run on several devices or processes reads back anywhere."""
-    metadata = ocp.StandardCheckpointer().metadata(step_dir.resolve() / "default").item_metadata.tree  # absolute
+    absl = logging.getLogger("absl")  # orbax warns that the item folder has no checkpoint metadata of its own
+    level = absl.level
+    absl.setLevel(logging.ERROR)
+    try:
+        metadata = ocp.StandardCheckpointer().metadata(step_dir.resolve() / "default").item_metadata.tree  # absolute
+    finally:
+        absl.setLevel(level)
     device = jax.sharding.SingleDeviceSharding(jax.local_devices()[0])
     return jax.tree.map(lambda m: jax.ShapeDtypeStruct(m.shape, m.dtype, sharding=device), metadata)
 

@@ -132,6 +132,19 @@ def evaluate(
     return Evaluator(config, files, attempts, devices)(params, seed)
 
 
+def evaluation_record(policy: str, update: int | None, attempts: int, seed: int, results: list[LevelResult]) -> dict:
+    """The payload of an evaluation file (`EVAL_FORMAT`): what was played, each level's result and each suite's
+    means. `kinetix eval --json` and training's `RUN/evaluations/<update>.json` write the same record."""
+    return {
+        "policy": policy,
+        "update": update,
+        "attempts": attempts,
+        "seed": seed,
+        "levels": [dataclasses.asdict(r) for r in results],
+        "suites": suite_summary(results),
+    }
+
+
 def suite_summary(results: list[LevelResult]) -> dict[str, dict]:
     """Mean solve rate, return and length per suite (folder), plus 'all'."""
     groups: dict[str, list[LevelResult]] = {}

@@ -6,7 +6,8 @@ A run directory holds:
 - `versions.json`: library versions and machine;
 - `metrics.jsonl`: one JSON object per update (update, env steps of the updates, all env steps including
   scoring rollouts, SPS, return, solve rate, losses; every `run.eval_every` updates also `eval_solve_rate` and
-  `eval_return` on `run.eval_levels`; with a curriculum the buffer's size, mean score and solve-rate
+  `eval_return` on `run.eval_levels` (each level's result in `evaluations/<update>.json`, as `kinetix eval
+  --json` writes it); with a curriculum the buffer's size, mean score and solve-rate
   percentiles, and the steps spent scoring levels);
 - `checkpoints/<update>/`: orbax checkpoints of the whole training state (`kinetix_cli.rl.checkpoints`), every
   `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one and, because the
@@ -36,7 +37,7 @@ from kinetix_cli.config import (
     load_config,
     save_config,
 )
-from kinetix_cli.constants import VERSIONS_FORMAT
+from kinetix_cli.constants import EVAL_FORMAT, VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level, to_host
 from kinetix_cli.errors import UserError
@@ -48,13 +49,15 @@ from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner, save_runner
 from kinetix_cli.rl.curricula.buffer import buffer_metrics
 from kinetix_cli.rl.curricula.sfl import refresh_buffer
-from kinetix_cli.rl.evaluate import Evaluator
+from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, plr_update, ppo_update
 
 METRICS_FILE = "metrics.jsonl"
 VERSIONS_FILE = "versions.json"
+EVALUATIONS = "evaluations"
+"""Folder of a run's evaluations during training: `<update>.json`, each as `kinetix eval --json` writes it."""
 INHERITED_ENV = ("observation", "action", "frame_skip")
 """What a fine-tuned agent keeps of its pre-training run's `env` section (besides the whole `model` section): what
 it sees, how it acts and how often."""
@@ -168,10 +171,14 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                     f"{settings.lr:g}, max_grad_norm {settings.max_grad_norm:g}); nothing of this update was kept"
                 )
             last = u + 1 == settings.num_updates
+            evaluation = None
             if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or last):
-                record |= _evaluation(evaluator, runner.params, config.run.seed)
+                evaluation = _evaluation(evaluator, runner.params, config.run, run_dir, u + 1)
+                record |= _evaluation_metrics(evaluation)
             try:
                 if primary:
+                    if evaluation is not None:
+                        atomic_write_json(run_dir / EVALUATIONS / f"{u + 1}.json", evaluation, EVAL_FORMAT)
                     log.write(json.dumps(record) + "\n")
                     log.flush()
                 every = config.run.checkpoint_every
@@ -200,11 +207,16 @@ def _check_split(config: ExperimentConfig, mesh) -> None:
 
 
 def finetune_config(
-    path: Path, files: list[Path], pretrained: ExperimentConfig | None, overrides: list[str] | tuple[str, ...] = ()
+    path: Path,
+    files: list[Path],
+    pretrained: ExperimentConfig | None,
+    overrides: list[str] | tuple[str, ...] = (),
+    init_from: str | None = None,
 ) -> ExperimentConfig:
     """The experiment of `kinetix finetune`: the config file `path`, training on and evaluating on the level
-    `files` (one size), with the model and `INHERITED_ENV` of the `pretrained` run's config (None: from scratch);
-    `overrides` (`--set`) win over all of it."""
+    `files` (one size), with the model and `INHERITED_ENV` of the `pretrained` run's config (None: from scratch)
+    and `run.init_from` naming where its parameters came from (`--from`); `overrides` (`--set`) win over all of
+    it."""
     sizes = {load_level(file).default_size() for file in files}
     if len(sizes) != 1:
         raise UserError(f"finetune: the levels have sizes {', '.join(sorted(sizes))}; give levels of one size")
@@ -215,6 +227,8 @@ def finetune_config(
         inherited = config_to_dict(pretrained)
         settings += [f"env.{key}={inherited['env'][key]}" for key in INHERITED_ENV]
         settings += [f"model.{key}={value}" for key, value in inherited["model"].items()]
+    if init_from is not None:
+        settings += [f"run.init_from={json.dumps(str(init_from))}"]  # quoted: any name or path stays a string
     return load_config(path, [*settings, *overrides])
 
 
@@ -257,13 +271,19 @@ def _evaluator(config: ExperimentConfig, devices: int | None) -> Evaluator | Non
     return Evaluator(config, level_paths(config.run.eval_levels), config.run.eval_attempts, devices)
 
 
-def _evaluation(evaluator: Evaluator, params, seed: int) -> dict:
-    """Mean solve rate and return over the evaluation levels, for the metrics record. The sampling seed is the
-    run's, so a resumed run evaluates exactly as an uninterrupted one."""
-    results = evaluator(to_host(params), seed)
+def _evaluation(evaluator: Evaluator, params, run, run_dir: Path, update: int) -> dict:
+    """The evaluation of `params` on the run's evaluation levels (`kinetix eval --json`'s record). The sampling
+    seed is the run's, so a resumed run evaluates exactly as an uninterrupted one."""
+    results = evaluator(to_host(params), run.seed)
+    return evaluation_record(str(run_dir), update, run.eval_attempts, run.seed, results)
+
+
+def _evaluation_metrics(evaluation: dict) -> dict:
+    """Mean solve rate and return over the evaluation levels, for the metrics record."""
+    levels = evaluation["levels"]
     return {
-        "eval_solve_rate": float(np.mean([r.solve_rate for r in results])),
-        "eval_return": float(np.mean([r.mean_return for r in results])),
+        "eval_solve_rate": float(np.mean([r["solve_rate"] for r in levels])),
+        "eval_return": float(np.mean([r["mean_return"] for r in levels])),
     }
 
 

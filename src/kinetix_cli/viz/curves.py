@@ -17,6 +17,7 @@ import numpy as np
 import yaml
 
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write
 
 METRICS_FILE = "metrics.jsonl"
 CONFIG_FILE = "config.yaml"
@@ -179,3 +180,11 @@ def draw(curves: list[Curve], x_axis: str = "steps"):
     axes[0][0].legend(fontsize="small")
     fig.tight_layout()
     return fig
+
+
+def save_figure(figure, path: Path) -> None:
+    """Write a matplotlib figure atomically, in the type its file name ends with (png, svg, pdf)."""
+    import matplotlib.pyplot as plt
+
+    atomic_write(path, lambda f: figure.savefig(f, format=path.suffix.lower()[1:], dpi=120))
+    plt.close(figure)

@@ -8,6 +8,7 @@ actions, in the environment the caller built (a run's own settings for a trained
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import jax
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 from kinetix_cli.env.actions import binding_values
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.episode import Policy, run_episode
-from kinetix_cli.env.level import Level, to_host
+from kinetix_cli.env.level import Level, share_engine_params, stack_levels, to_host
 from kinetix_cli.viz.render import render_frame
 
 
@@ -54,26 +55,41 @@ def record_episode(
     env: KinetixEnv, params: EnvParams, level: Level, policy: Policy, key: jax.Array, horizon: int
 ) -> Episode:
     """Play one episode of `level` under `policy` and keep every state until it ends."""
+    return record_episodes(env, params, [level], policy, key[None], horizon)[0]
 
-    @jax.jit
-    def play(level, key):
-        return run_episode(env, params, level, policy, key, horizon, record=True)
 
-    outcome, trace = to_host(play(level, key))
-    length = int(outcome.length)
-    start = jax.tree.map(lambda x: np.asarray(x)[None], level.physics)
-    frames = jax.tree.map(lambda a, b: np.concatenate([a, b[:length]]), start, trace.physics)
-    return Episode(
-        physics=frames,
-        bindings=to_host(level.bindings),
-        action_type=env.action,
-        actions=trace.action[:length],
-        rewards=trace.reward[:length],
-        solved=bool(outcome.solved),
-        failed=bool(outcome.failed),
-        length=length,
-        step_seconds=env.frame_skip * float(level.engine_params.dt),
-    )
+def record_episodes(
+    env: KinetixEnv, params: EnvParams, levels: list[Level], policy: Policy, keys: jax.Array, horizon: int
+) -> list[Episode]:
+    """Play one episode of each level (same size) under `policy`, level i with `keys[i]`, all in one batched
+    rollout (one compile for the batch), and keep every state of each until it ends."""
+
+    @functools.partial(jax.jit, static_argnums=2)
+    def play(levels, keys, level_axes):
+        episode = functools.partial(run_episode, env, params, policy=policy, horizon=horizon, record=True)
+        return jax.vmap(lambda level, key: episode(level, key=key), in_axes=(level_axes, 0))(levels, keys)
+
+    batch, level_axes = share_engine_params(stack_levels(levels))
+    outcomes, traces = to_host(play(batch, keys, level_axes))
+    episodes = []
+    for i, level in enumerate(levels):
+        length = int(outcomes.length[i])
+        start = jax.tree.map(lambda x: np.asarray(x)[None], level.physics)
+        frames = jax.tree.map(lambda a, b, i=i, n=length: np.concatenate([a, b[i, :n]]), start, traces.physics)
+        episodes.append(
+            Episode(
+                physics=frames,
+                bindings=to_host(level.bindings),
+                action_type=env.action,
+                actions=traces.action[i, :length],
+                rewards=traces.reward[i, :length],
+                solved=bool(outcomes.solved[i]),
+                failed=bool(outcomes.failed[i]),
+                length=length,
+                step_seconds=env.frame_skip * float(level.engine_params.dt),
+            )
+        )
+    return episodes
 
 
 def episode_frames(title: str, episode: Episode, scale: float = 80, every: int = 1) -> list:

@@ -1,6 +1,6 @@
 """`kinetix generate` and the level-set commands through the CLI: a set is written, rerunning changes nothing,
-info/show/export read it, two processes (and two devices) write the same set; bad input is one line and exit
-code 2."""
+info/show/export read it; in make test-all, two processes and two devices write the same set; bad input is one
+line and exit code 2."""
 
 from __future__ import annotations
 
@@ -56,6 +56,7 @@ def test_generate_info_show_export(tmp_path, generated):
     assert spec.size == "s" and spec.description
 
 
+@pytest.mark.slow  # ~70 s: both processes compile the chunk program; multi-process training stays in make test
 def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
     # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
     # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0

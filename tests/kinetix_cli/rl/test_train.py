@@ -14,8 +14,10 @@ import pytest
 from helpers.paths import EXPERIMENTS, LEVELS
 from helpers.runs import EVAL_LEVEL, tiny_config
 from kinetix_cli.config import load_config
+from kinetix_cli.constants import EVAL_FORMAT
 from kinetix_cli.env.level import level_count
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import read_format
 from kinetix_cli.rl.checkpoints import load_policy
 from kinetix_cli.rl.evaluate import evaluate
 from kinetix_cli.rl.pool import level_pool
@@ -60,6 +62,11 @@ def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tiny_run):
     (result,) = evaluate(config, params, [EVAL_LEVEL], config.run.eval_attempts, seed=config.run.seed)
     last = metrics(tiny_run)[-1]
     assert last["eval_solve_rate"] == result.solve_rate and last["eval_return"] == result.mean_return
+    # each evaluation's per-level record, as `kinetix eval --json` writes it
+    assert sorted(f.name for f in (tiny_run / "evaluations").iterdir()) == ["4.json", "6.json"]
+    record = read_format(tiny_run / "evaluations" / "6.json", EVAL_FORMAT)
+    assert (record["update"], record["attempts"], record["seed"]) == (6, config.run.eval_attempts, config.run.seed)
+    assert record["levels"] == [dataclasses.asdict(result)] and record["suites"]["all"]["levels"] == 1
 
 
 def test_the_pool_carries_each_level_files_engine_constants(tmp_path):
@@ -126,8 +133,9 @@ def test_finetune_config_keeps_the_agents_interface_unless_set():
     assert config.levels.files == config.run.eval_levels == (EVAL_LEVEL,)
     scratch = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], None)
     assert scratch.model.name == "transformer" and scratch.env.frame_skip == 2
-    mine = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], pretrained, ["env.frame_skip=3"])
-    assert mine.env.frame_skip == 3
+    assert config.run.init_from is None and scratch.run.init_from is None
+    mine = finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL], pretrained, ["env.frame_skip=3"], "a: b/1")
+    assert mine.env.frame_skip == 3 and mine.run.init_from == "a: b/1"  # where it started, recorded as given
     with pytest.raises(UserError, match="sizes m, s"):
         finetune_config(EXPERIMENTS / "finetune.yaml", [EVAL_LEVEL, "levels/m/arm-sweep-ball.json"], pretrained)
 

@@ -6,29 +6,13 @@ from __future__ import annotations
 
 import csv
 import json
-import shutil
 
 import pytest
-import yaml
 
 from helpers.cli import kinetix
+from helpers.runs import copy_run
 from kinetix_cli.errors import UserError
 from kinetix_cli.viz.curves import draw, learning_curves, read_run
-
-
-def copy_run(source, dest, settings=(), shift=0.0):
-    """A copy of the run `source` with config `settings` ((section.key, value), ...) and every `return` + shift."""
-    shutil.copytree(source, dest)
-    config = yaml.safe_load((dest / "config.yaml").read_text())
-    for key, value in settings:
-        section, name = key.split(".")
-        config[section][name] = value
-    (dest / "config.yaml").write_text(yaml.safe_dump(config))
-    lines = [json.loads(line) for line in (dest / "metrics.jsonl").read_text().splitlines()]
-    for line in lines:
-        line["return"] += shift
-    (dest / "metrics.jsonl").write_text("".join(json.dumps(line) + "\n" for line in lines))
-    return dest
 
 
 @pytest.fixture

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from helpers.cli import kinetix
+from helpers.pages import read_report
 from helpers.runs import SFL_RUN_GROUP, sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.curricula.sfl import episode_counts
@@ -57,6 +58,15 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
     sheet = tmp_path / "buffer.png"
     result = kinetix(capsys, "levels", "show", run_dir, "--buffer", "--grid", "4", "-o", sheet)
     assert result.code == 0 and "4 buffer levels" in result.out and sheet.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_the_report_of_an_sfl_run_shows_its_buffer(capsys, tmp_path, sfl_run):
+    _, run_dir = sfl_run
+    result = kinetix(capsys, "report", run_dir, "-o", tmp_path / "report")
+    page, payload = read_report(tmp_path / "report")
+    assert result.code == 0 and payload["levels"] == []  # the run evaluates nothing (run.eval_every=0)
+    assert payload["buffers"] == [{"run": str(run_dir), "image": "buffers/0.png", "levels": 4}]
+    assert "buffers/0.png" in page.refs and "No evaluation" in " ".join(page.text)
 
 
 def test_a_run_without_a_buffer_says_so(capsys, tmp_path, tiny_run):
