@@ -202,6 +202,9 @@ def _episodes(groups, levels, folder: Path, notes: list[str], progress) -> dict[
         if not evaluated:
             continue
         run, (_, payload) = evaluated[0]
+        if not (run.path / CHECKPOINTS).is_dir():
+            notes.append(f"{run.path}: no checkpoint yet; no GIFs of {group.label}'s agent")
+            continue
         source = _checkpoint_of(run.path, payload.get("update"))
         config, params, update = load_policy(source)
         network = make_network(config.model, config.env)

@@ -70,10 +70,9 @@ def test_a_shipped_agent_is_used_by_name(capsys, shipped, tmp_path):
     args = ["finetune", *TRAIN_LEVELS, "--from", "tiny-agent", "--run-dir", tuned, "--config"]
     assert kinetix(capsys, *args, "experiments/cpu-small.yaml", *set_args(sets)).code == 0
     assert load_config(tuned / "config.yaml").env.frame_skip == 4  # the agent's own, as with --from RUN
-    assert kinetix(capsys, "report", tuned, "-o", tmp_path / "report").code == 0  # a fine-tuned run's report
-    _, payload = read_report(tmp_path / "report")
+    assert kinetix(capsys, "report", tuned, "-o", tmp_path / "report", "--no-gifs").code == 0  # a fine-tuned run
+    _, payload = read_report(tmp_path / "report")  # (GIFs: viz/test_report.py)
     assert payload["runs"][0]["init_from"] == "tiny-agent" and [e["level"] for e in payload["levels"]] == TRAIN_LEVELS
-    assert all(entry["episodes"] for entry in payload["levels"])
 
 
 def test_unknown_names_and_damaged_agents_are_one_line(capsys, shipped, tmp_path):

@@ -1,8 +1,8 @@
 """Training across devices and processes gives the run of one device. The tiny run's first 4 updates (checkpoints 2
 and 4, no evaluation) on 2 forced host devices in one process and as 2 processes of one device each on localhost
-(gloo collectives), against the session's tiny run (1 device, this process) at its checkpoint 4; the tiny SFL run's
-first 6 updates on 2 devices against its first 6 on 1; a killed process (a peer, or process 0 with the
-coordination service) stops the other with one line. (make test-all: kill -9 of either process, then --resume.)
+(gloo collectives), against the session's tiny run (1 device, this process) at its checkpoint 4; a killed process
+(a peer, or process 0 with the coordination service) stops the other with one line. (make test-all: the tiny SFL
+run's first 6 updates on 2 devices against its first 6 on 1; kill -9 of either process, then --resume.)
 Each `kinetix` process compiles its own programs: ~20 s of CPU each.
 
 The 2-device program splits every batch and averages the gradient with an all-reduce, so its sums run in
@@ -92,6 +92,7 @@ def test_two_processes_train_as_two_devices_bit_for_bit(tiny_run, two_device_run
 SHORT_SFL = [*SFL, "ppo.total_timesteps=384", "run.checkpoint_every=3"]  # 6 updates, refreshes before 1, 3 and 5
 
 
+@pytest.mark.slow  # ~50 s: the SFL programs compile for 2 devices; the DR checks above stay in make test
 def test_an_sfl_run_on_two_devices_trains_as_on_one_device(tmp_path, env, sfl_run):
     # the first 6 updates of the session's tiny SFL run (1 device; its total steps do not change them: constant
     # lr and entropy weight) against a 6-update run on 2 devices: the losses, entropy and buffer metrics of every

@@ -73,6 +73,16 @@ def test_a_report_is_replaced_and_other_folders_are_refused(capsys, tmp_path, se
     assert (other / "mine.txt").read_text() == "keep me"
 
 
+def test_a_run_without_a_checkpoint_yet_is_reported_without_gifs(capsys, tmp_path, seeds):
+    early = tmp_path / "early"
+    shutil.copytree(seeds[0], early)
+    shutil.rmtree(early / "checkpoints")
+    result = kinetix(capsys, "report", early, "-o", tmp_path / "report")
+    _, payload = read_report(tmp_path / "report")
+    assert result.code == 0 and "no checkpoint yet" in result.out
+    assert payload["levels"][0]["episodes"] == {} and payload["levels"][0]["picture"] == "levels/0.png"
+
+
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
