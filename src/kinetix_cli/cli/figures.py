@@ -128,13 +128,8 @@ def report(
     """A static page of runs (DIR/index.html, opens from disk in any browser): learning curves, the latest
     evaluation with each level's picture and a GIF of the agent, the curriculum buffer's top levels, the resolved
     config and the library versions; report.json holds its numbers."""
-    from kinetix_cli.errors import UserError
-    from kinetix_cli.io import check_output_dir
-    from kinetix_cli.viz.report import REPORT_FILES, write_report
+    from kinetix_cli.viz.report import write_report
 
-    out = check_output_dir(out, "-o")
-    if out.is_dir() and any(out.iterdir()) and not all((out / f).is_file() for f in REPORT_FILES):
-        raise UserError(f"-o {out}: not empty and not a report folder; choose a new folder")
     payload = write_report(
         runs, out, group_by=_split(group) or None, evaluations=evaluation or None, gifs=gifs, progress=say
     )

@@ -23,11 +23,12 @@ from pathlib import Path
 from flax import serialization
 
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
-from kinetix_cli.constants import AGENT_FORMAT, EVAL_FORMAT
+from kinetix_cli.constants import AGENT_FORMAT
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_folder, atomic_write_json, check_output_dir, read_format
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
+from kinetix_cli.rl.evaluate import read_evaluation
 from kinetix_cli.rl.networks import params_fit
 
 SHIPPED = Path(__file__).with_name("shipped")
@@ -182,10 +183,9 @@ def export_agent(
 
 def _evaluation(file: str | os.PathLike, run: Path) -> dict:
     """The per-suite results of a `kinetix eval --json` file, with its attempts and seed; it must be of `run`."""
-    payload = read_format(file, EVAL_FORMAT, UserError)
-    suites, attempts = payload.get("suites"), payload.get("attempts")
-    if not isinstance(suites, dict) or not isinstance(attempts, int):
-        raise UserError(f"{file}: suites/attempts: missing; give the file `kinetix eval --json` wrote")
-    if Path(str(payload.get("policy"))).resolve() != run.resolve():
-        raise UserError(f"{file}: policy: evaluates {payload.get('policy')!r}, not {run}")
-    return {"attempts": attempts, "seed": payload.get("seed"), "update": payload.get("update"), "suites": suites}
+    record = read_evaluation(file)
+    if not isinstance(record.get("attempts"), int):
+        raise UserError(f"{file}: attempts: missing; give the file `kinetix eval --json` wrote")
+    if Path(str(record.get("policy"))).resolve() != run.resolve():
+        raise UserError(f"{file}: policy: evaluates {record.get('policy')!r}, not {run}")
+    return {k: record.get(k) for k in ("attempts", "seed", "update", "suites")}

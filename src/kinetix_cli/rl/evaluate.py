@@ -21,10 +21,13 @@ import jax
 import numpy as np
 
 from kinetix_cli.config import ExperimentConfig
+from kinetix_cli.constants import EVAL_FORMAT
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.episode import Outcome, run_episode
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, share_engine_params, stack_levels
+from kinetix_cli.errors import UserError
+from kinetix_cli.io import read_format
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.parallel import make_mesh, pad_batch, replicate, shard_batch, using
 from kinetix_cli.rl.networks import make_network, sampling_policy
@@ -143,6 +146,21 @@ def evaluation_record(policy: str, update: int | None, attempts: int, seed: int,
         "levels": [dataclasses.asdict(r) for r in results],
         "suites": suite_summary(results),
     }
+
+
+def read_evaluation(path: str | Path) -> dict:
+    """The record of an evaluation file (`EVAL_FORMAT`: `kinetix eval --json`, or a run's `evaluations/<update>.json`);
+    another format or a malformed file is one `UserError` naming the file and the field."""
+    record = read_format(path, EVAL_FORMAT, UserError)
+    levels, suites = record.get("levels"), record.get("suites")
+    if not isinstance(levels, list) or not isinstance(suites, dict):
+        raise UserError(f"{path}: levels/suites: missing; give files `kinetix eval --json` wrote")
+    number = lambda x: isinstance(x, int | float) and not isinstance(x, bool)  # noqa: E731
+    if not all(isinstance(e, dict) and {"level", "suite"} <= e.keys() and number(e.get("solve_rate")) for e in levels):
+        raise UserError(f"{path}: levels: every entry needs a level, a suite and a solve_rate")
+    if not all(isinstance(suite, dict) and number(suite.get("solve_rate")) for suite in suites.values()):
+        raise UserError(f"{path}: suites: every suite needs a solve_rate")
+    return record
 
 
 def suite_summary(results: list[LevelResult]) -> dict[str, dict]:

@@ -7,9 +7,8 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from kinetix_cli.constants import EVAL_FORMAT
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import read_format
+from kinetix_cli.rl import evaluate
 
 
 @dataclasses.dataclass(frozen=True)
@@ -38,18 +37,12 @@ class Row:
 
 def read_evaluation(path: Path) -> Evaluation:
     """An eval file's solve rates; another format or a malformed file is one error naming the file and field."""
-    payload = read_format(path, EVAL_FORMAT, UserError)
-    levels, suites = payload.get("levels"), payload.get("suites")
-    if not isinstance(levels, list) or not isinstance(suites, dict):
-        raise UserError(f"{path}: levels/suites: missing; give files `kinetix eval --json` wrote")
-    try:
-        return Evaluation(
-            path,
-            {str(e["level"]): float(e["solve_rate"]) for e in levels},
-            {str(name): float(s["solve_rate"]) for name, s in suites.items()},
-        )
-    except (KeyError, TypeError, ValueError):
-        raise UserError(f"{path}: levels: every entry needs a level and a solve_rate") from None
+    record = evaluate.read_evaluation(path)
+    return Evaluation(
+        path,
+        {str(e["level"]): float(e["solve_rate"]) for e in record["levels"]},
+        {str(name): float(suite["solve_rate"]) for name, suite in record["suites"].items()},
+    )
 
 
 def labels(evaluations: list[Evaluation]) -> list[str]:

@@ -26,14 +26,15 @@ from pathlib import Path
 import jax
 import numpy as np
 
-from kinetix_cli.constants import CURVES_FORMAT, EVAL_FORMAT, REPORT_FORMAT, VERSIONS_FORMAT
+from kinetix_cli.constants import CURVES_FORMAT, REPORT_FORMAT, VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_folder, atomic_write_json, atomic_write_text, read_format
+from kinetix_cli.io import atomic_folder, atomic_write_json, atomic_write_text, check_output_dir, read_format
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS
+from kinetix_cli.rl.evaluate import read_evaluation
 from kinetix_cli.rl.networks import make_network, sampling_policy
 from kinetix_cli.rl.train import EVALUATIONS, VERSIONS_FILE
 from kinetix_cli.viz.buffer import buffer_levels
@@ -91,13 +92,16 @@ def write_report(
     progress: Callable[[str], None] = lambda line: None,
 ) -> dict:
     """Write the report of the runs `paths` into the folder `out` (whole or not at all; an earlier report there is
-    replaced) and return its `report.json` payload. `evaluations`: one `kinetix eval --json` file per run, in
-    the order of `paths`, instead of the runs' own latest ones."""
+    replaced, any other non-empty folder refused) and return its `report.json` payload. `evaluations`: one
+    `kinetix eval --json` file per run, in the order of `paths`, instead of the runs' own latest ones."""
+    out = check_output_dir(out, "-o")
+    if out.is_dir() and any(out.iterdir()) and not all((out / f).is_file() for f in REPORT_FILES):
+        raise UserError(f"-o {out}: not empty and not a report folder; choose a new folder")
     runs = [read_run(Path(p)) for p in paths]
     if evaluations is not None and len(evaluations) != len(runs):
         raise UserError(f"--eval: give one eval file per run ({len(runs)} runs, {len(evaluations)} files)")
     chosen = evaluations or [latest_evaluation(run.path) for run in runs]
-    by_run = {run.path: _read_evaluation(file) if file else None for run, file in zip(runs, chosen, strict=True)}
+    by_run = {run.path: (file, read_evaluation(file)) if file else None for run, file in zip(runs, chosen, strict=True)}
     groups = [
         Group(label, members, [by_run[r.path] for r in members])
         for label, members in group_runs(runs, group_by).items()
@@ -117,9 +121,13 @@ def write_report(
             "groups": [group.label for group in groups],
             "curves": curves,
             "levels": [
-                {"level": level, "suite": suite, "picture": pictures.get(level)}
-                | {"solve_rates": {g.label: _rates(g, level) for g in groups}}
-                | {"episodes": {label: e for label, e in episodes.get(level, {}).items()}}
+                {
+                    "level": level,
+                    "suite": suite,
+                    "picture": pictures.get(level),
+                    "solve_rates": {g.label: _rates(g, level) for g in groups},
+                    "episodes": episodes.get(level, {}),
+                }
                 for level, suite in levels
             ],
             "buffers": buffers,
@@ -129,16 +137,6 @@ def write_report(
         atomic_write_json(folder / DATA_FILE, payload, REPORT_FORMAT)
         atomic_write_text(folder / PAGE_FILE, _page(runs, groups, payload))
     return payload
-
-
-def _read_evaluation(file: Path) -> tuple[Path, dict]:
-    payload = read_format(file, EVAL_FORMAT, UserError)
-    if not isinstance(payload.get("levels"), list):
-        raise UserError(f"{file}: levels: missing; give files `kinetix eval --json` wrote")
-    for entry in payload["levels"]:
-        if not isinstance(entry, dict) or not {"level", "suite", "solve_rate"} <= set(entry):
-            raise UserError(f"{file}: levels: every entry needs a level, a suite and a solve_rate")
-    return file, payload
 
 
 def _curves(runs: list[Run], group_by, folder: Path, notes: list[str]) -> str | None:

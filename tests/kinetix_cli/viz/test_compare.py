@@ -72,4 +72,5 @@ def test_bad_input_is_one_line(capsys, tmp_path, files):
     assert f"{other}: format: expected 'kinetix-eval/1', got 'kinetix-curves/1'" in line
     broken = tmp_path / "broken.json"
     broken.write_text(json.dumps({"format": "kinetix-eval/1", "levels": [{"level": "x"}], "suites": {}}))
-    assert "every entry needs a level and a solve_rate" in kinetix(capsys, "compare", files[0], broken).error_line
+    line = kinetix(capsys, "compare", files[0], broken).error_line
+    assert f"{broken}: levels: every entry needs a level, a suite and a solve_rate" in line
