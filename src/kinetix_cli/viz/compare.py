@@ -46,8 +46,10 @@ def read_evaluation(path: Path) -> Evaluation:
 
 
 def labels(evaluations: list[Evaluation]) -> list[str]:
-    """Short names for the columns: file names, with their folder where two are alike."""
-    names = [e.path.stem for e in evaluations]
+    """Short names for the columns: file names; where two are alike, their folders (a run's eval file is named by
+    its run), or folder/file if those are alike too."""
+    stems = [e.path.stem for e in evaluations]
+    names = [e.path.parent.name if stems.count(stem) > 1 else stem for e, stem in zip(evaluations, stems, strict=True)]
     if len(set(names)) < len(names):
         names = [f"{e.path.parent.name}/{e.path.stem}" for e in evaluations]
     return names
@@ -86,7 +88,7 @@ def draw(columns: list[str], rows: list[Row]):
     import numpy as np
 
     width = 0.8 / len(columns)
-    fig, ax = plt.subplots(figsize=(max(6.0, 0.6 * len(rows) * len(columns)), 4.0))
+    fig, ax = plt.subplots(figsize=(min(16.0, max(6.0, 2.0 + 0.2 * len(rows) * len(columns))), 4.0))
     x = np.arange(len(rows))
     for i, column in enumerate(columns):
         rates = [np.nan if r.rates[i] is None else r.rates[i] for r in rows]

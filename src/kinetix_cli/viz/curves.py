@@ -114,9 +114,14 @@ def group_runs(runs: list[Run], by: list[str] | None = None) -> dict[str, list[R
     for key, members in groups.items():
         values = dict(key)
         named = 0 < len(differing) <= MAX_LABEL_KEYS
-        label = ", ".join(f"{k}={json.loads(values[k])}" for k in differing) if named else members[0].path.name
+        label = ", ".join(f"{k}={_shown(json.loads(values[k]))}" for k in differing) if named else members[0].path.name
         labels[label] = members
     return labels
+
+
+def _shown(value) -> str:
+    """A setting's value as a label shows it: YAML's null as `none` (as in `--from none`)."""
+    return "none" if value is None else str(value)
 
 
 def curve(metric: str, label: str, runs: list[Run], x_axis: str = "steps") -> Curve:

@@ -285,7 +285,7 @@ h1 { font-size: 1.5em; } h2 { font-size: 1.2em; margin-top: 2em; border-bottom: 
 table { border-collapse: collapse; margin: 0.5em 0; } td, th { border: 1px solid #ddd; padding: 4px 8px; }
 th { background: #f4f4f4; text-align: left; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
 img { max-width: 100%; } pre { background: #f8f8f8; padding: 1em; overflow-x: auto; }
-.small { color: #666; font-size: 0.85em; } .note { color: #8a5a00; }
+.small { color: #666; font-size: 0.85em; } .note { color: #8a5a00; } .wide { overflow-x: auto; }
 """
 
 
@@ -404,7 +404,7 @@ def _evaluation_section(groups: list[Group], payload: dict) -> str:
     rows.append([_td("<b>mean over levels</b>"), _td("")] + means + [_td("") for _ in labels])
     return (
         f"<ul>{''.join(sources)}</ul>"
-        + _table(header, rows)
+        + f'<div class="wide">{_table(header, rows)}</div>'
         + (
             '<p class="small">solve rate: mean over the group\'s runs (min..max over runs); each GIF is one episode '
             "(seed 0) of the group's first run</p>"

@@ -117,7 +117,8 @@ def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
     with pytest.raises(UserError, match="--name 'General S'"):
         agents.export_agent(tiny_run, tmp_path / "b", name="General S", version=1, commands=[])
     wrong = tmp_path / "eval.json"
-    wrong.write_text(json.dumps({"format": "kinetix-eval/1", "policy": "elsewhere", "attempts": 2, "levels": [], "suites": {}}))
+    record = {"format": "kinetix-eval/1", "policy": "elsewhere", "attempts": 2, "levels": [], "suites": {}}
+    wrong.write_text(json.dumps(record))
     with pytest.raises(UserError, match="policy: evaluates 'elsewhere'"):
         agents.export_agent(tiny_run, tmp_path / "c", name="c", version=1, commands=[], evaluation=wrong)
 

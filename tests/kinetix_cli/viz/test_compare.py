@@ -37,7 +37,7 @@ def files(tmp_path):
 
 def test_levels_and_suites_side_by_side_with_the_difference(files):
     columns, rows = compare(files)
-    assert columns == ["dr/eval", "sfl/eval"]  # same file names: their folders tell them apart
+    assert columns == ["dr", "sfl"]  # same file names: their folders (runs) tell them apart
     assert [(r.kind, r.name, r.rates, r.difference) for r in rows] == [
         ("level", "levels/s/a.json", (0.25, 0.75), 0.5),
         ("level", "levels/s/b.json", (0.5, None), None),
@@ -46,7 +46,7 @@ def test_levels_and_suites_side_by_side_with_the_difference(files):
         ("suite", "all", (0.375, 0.875), 0.5),
     ]
     table = markdown(columns, rows).splitlines()
-    assert table[0] == "| level / suite | dr/eval | sfl/eval | sfl/eval - dr/eval |"
+    assert table[0] == "| level / suite | dr | sfl | sfl - dr |"
     assert table[2] == "| levels/s/a.json | 25.0% | 75.0% | +50.0 |"
     assert table[5] == "| **levels/s** (mean) | 37.5% | 87.5% | +50.0 |"
     ax = draw(columns, rows).axes[0]
