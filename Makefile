@@ -57,10 +57,12 @@ demo: $(STAMP)
 		--config experiments/cpu-small.yaml --set ppo.total_timesteps=200000
 	$(BIN)/kinetix eval demo-out/finetune --levels $(DEMO_LEVEL) --json demo-out/eval-finetune.json
 	$(BIN)/kinetix rollout $(DEMO_LEVEL) --policy demo-out/finetune -o demo-out/finetuned.gif
+	$(BIN)/kinetix report demo-out/finetune -o demo-out/report
 	@echo "demo outputs in demo-out/: level.png and rollout.gif (a hand-made level and its solution),"
 	@echo "  levels-s/ and levels-s.png (1024 generated levels), pretrain/ and finetune/ (runs: config, metrics,"
 	@echo "  checkpoints; finetune starts from the shipped agent general-s), eval-pretrain.json, eval-general-s.json"
-	@echo "  (general-s zero-shot) and eval-finetune.json (solve rates), finetuned.gif (the tuned agent)"
+	@echo "  (general-s zero-shot) and eval-finetune.json (solve rates), finetuned.gif (the tuned agent),"
+	@echo "  report/index.html (the fine-tuning run's page: curves, evaluation, the agent playing; open it in a browser)"
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests

@@ -6,6 +6,7 @@
 #   benchmarks/curricula.sh BUDGET OUT_DIR
 #   SIZE=s CURRICULA="dr sfl plr accel" SEEDS="0 1 2" CONFIG=experiments/cpu-small.yaml ATTEMPTS=20 ENVS=256 (defaults)
 #   SUITES="levels/$SIZE .cache/reference-levels/$SIZE" (make reference-levels fetches the paper's levels)
+#   EVAL_EVERY=0 EVAL_LEVELS=levels/$SIZE: evaluate during training every EVAL_EVERY updates (learning curves)
 #
 # Equal budgets: DR and PLR runs take BUDGET update steps (PLR's updates on new levels, which train nothing, are
 # part of them); an SFL run takes fewer updates, so that its updates plus its scoring rollouts make BUDGET. Every
@@ -33,7 +34,8 @@ for curriculum in ${CURRICULA:-dr sfl plr accel}; do
     [[ "$curriculum" = plr || "$curriculum" = accel ]] && shape=(--set "ppo.num_envs=$((envs / 8))" --set ppo.num_steps=256
       --set "curriculum.buffer_size=${PLR_BUFFER:-512}")
     common=(--config "$config" --set env.size="$size" --set levels.source=fresh --set "curriculum.name=$curriculum"
-      --set "run.seed=$seed" --set run.eval_every=0 "${shape[@]}")
+      --set "run.seed=$seed" --set "run.eval_every=${EVAL_EVERY:-0}" --set "run.eval_levels=[${EVAL_LEVELS:-levels/$size}]"
+      "${shape[@]}")
     steps=$("$python" "$(dirname "$0")/curricula_summary.py" --training-steps "$budget" "${common[@]}")
     if [ -d "$dir" ]; then
       "$kinetix" pretrain --run-dir "$dir" --resume "${common[@]}" --set "ppo.total_timesteps=$steps"
