@@ -6,6 +6,7 @@ the page in headless Chromium: slow, below.)"""
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 
@@ -73,14 +74,18 @@ def test_a_report_is_replaced_and_other_folders_are_refused(capsys, tmp_path, se
     assert (other / "mine.txt").read_text() == "keep me"
 
 
-def test_a_run_without_a_checkpoint_yet_is_reported_without_gifs(capsys, tmp_path, seeds):
+def test_a_run_without_a_checkpoint_yet_or_its_level_files_is_reported_with_notes(capsys, tmp_path, seeds):
     early = tmp_path / "early"
     shutil.copytree(seeds[0], early)
     shutil.rmtree(early / "checkpoints")
+    evaluation = early / "evaluations" / "6.json"
+    record = json.loads(evaluation.read_text())
+    record["levels"].append(record["levels"][0] | {"level": "elsewhere/gone.json"})  # evaluated from another folder
+    evaluation.write_text(json.dumps(record))
     result = kinetix(capsys, "report", early, "-o", tmp_path / "report")
     _, payload = read_report(tmp_path / "report")
-    assert result.code == 0 and "no checkpoint yet" in result.out
-    assert payload["levels"][0]["episodes"] == {} and payload["levels"][0]["picture"] == "levels/0.png"
+    assert result.code == 0 and "no checkpoint yet" in result.out and "gone.json: level file not found" in result.out
+    assert [(e["picture"], e["episodes"]) for e in payload["levels"]] == [("levels/0.png", {}), (None, {})]
 
 
 @pytest.mark.parametrize(
