@@ -170,6 +170,7 @@ def draw(curves: list[Curve], x_axis: str = "steps"):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import EngFormatter
 
     metrics = list(dict.fromkeys(c.metric for c in curves))
     fig, axes = plt.subplots(1, len(metrics), figsize=(5 * len(metrics), 3.6), squeeze=False)
@@ -181,6 +182,9 @@ def draw(curves: list[Curve], x_axis: str = "steps"):
                 ax.fill_between(c.x, c.low, c.high, color=line.get_color(), alpha=0.2, linewidth=0)
         ax.set_title(metric)
         ax.set_xlabel("environment steps" if x_axis == "steps" else "training time [s]")
+        ax.xaxis.set_major_formatter(EngFormatter(sep=""))  # 200k, 1.5M: no overlapping long numbers
+        if "solve" in metric:  # a rate: always the whole 0..1 range
+            ax.set_ylim(-0.03, 1.03)
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize="small")
     fig.tight_layout()
