@@ -50,6 +50,7 @@ from kinetix_cli.viz.curves import (
     save_figure,
 )
 from kinetix_cli.viz.render import render_level, save_gif, save_png
+from kinetix_cli.viz.rollout import episode_frames, record_episodes
 
 CURVE_METRICS = ("eval_solve_rate", "solve_rate", "return", "buffer_solve_rate")
 """The metrics drawn, those the runs logged, in this order."""
@@ -191,8 +192,6 @@ def _level_pictures(levels: list[tuple[str, str]], folder: Path, notes: list[str
 def _episodes(groups, levels, folder: Path, notes: list[str], progress) -> dict[str, dict[str, dict]]:
     """episodes/<g>-<k>.gif: each group's agent (its first evaluated run, at the evaluated checkpoint) playing each
     level it was evaluated on, one episode (seed 0, actions sampled); level -> group -> the episode's entry."""
-    from kinetix_cli.viz.rollout import episode_frames, record_episodes
-
     episodes: dict[str, dict[str, dict]] = {}
     index = {level: k for k, (level, _) in enumerate(levels)}
     for g, group in enumerate(groups):
