@@ -57,6 +57,20 @@ def test_a_report_of_two_seeds_shows_one_group_its_evaluation_and_the_agent(made
         assert shown in text, shown
 
 
+def test_group_by_a_key_gives_a_column_per_group_and_escapes_text(capsys, tmp_path, seeds):
+    odd = copy_run(seeds[0], tmp_path / "lr <b>", [("ppo.lr", 0.001)])
+    out = tmp_path / "report"
+    assert kinetix(capsys, "report", *seeds, odd, "-o", out, "--group", "ppo.lr", "--no-gifs").code == 0
+    page, payload = read_report(out)
+    assert payload["groups"] == ["ppo.lr=0.0003", "ppo.lr=0.001"]
+    rates = payload["levels"][0]["solve_rates"]
+    assert [len(rates[g]["runs"]) for g in payload["groups"]] == [2, 1]
+    headers = " ".join(page.text)
+    assert "solve rate: ppo.lr=0.0003 (2 runs)" in headers and "solve rate: ppo.lr=0.001" in headers
+    # the folder name is text, not markup: the only <b> are the mean row's label and its two group means
+    assert page.tags["b"] == 3 and "lr <b>" in headers
+
+
 def test_a_report_is_replaced_and_other_folders_are_refused(capsys, tmp_path, seeds, made):
     out = tmp_path / "again"
     shutil.copytree(made[0], out)
