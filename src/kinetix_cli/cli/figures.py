@@ -9,14 +9,10 @@ from pathlib import Path
 
 import typer
 
-from kinetix_cli.cli.console import say
+from kinetix_cli.cli.console import name_list, say
 from kinetix_cli.constants import COMPARE_FORMAT, CURVES_FORMAT
 
 commands = typer.Typer()
-
-
-def _split(text: str | None) -> list[str]:
-    return [item.strip() for item in (text or "").split(",") if item.strip()]
 
 
 @commands.command()
@@ -40,7 +36,7 @@ def plot(
     if output is None and json_out is None and csv_out is None:
         raise UserError("plot: give -o FIGURE, --json FILE or --csv FILE")
     _check_outputs(output, [(json_out, "--json"), (csv_out, "--csv")])
-    curves = learning_curves(runs, _split(metric) or ["solve_rate"], x, _split(group) or None)
+    curves = learning_curves(runs, list(name_list(metric)) or ["solve_rate"], x, list(name_list(group or "")) or None)
     rows = [row for c in curves for row in c.rows()]
     if output is not None:
         save_figure(draw(curves, x), output)
@@ -131,7 +127,12 @@ def report(
     from kinetix_cli.viz.report import write_report
 
     payload = write_report(
-        runs, out, group_by=_split(group) or None, evaluations=evaluation or None, gifs=gifs, progress=say
+        runs,
+        out,
+        group_by=list(name_list(group or "")) or None,
+        evaluations=evaluation or None,
+        gifs=gifs,
+        progress=say,
     )
     for note in payload["notes"]:
         say(("note: ", "yellow"), note)
