@@ -250,16 +250,20 @@ class LevelSettings:
         files: level files (`kinetix-level/1` JSON) to train on (source 'files' only), else empty.
         pool_size: generated levels held on the device (source 'generated'), sampled and filtered once at the start
             of the run with the run's seed; episodes reset to a uniformly drawn pool level.
+        pool_chunk: levels sampled and filtered per device batch while the pool is generated (as `kinetix
+            generate --chunk`; the pool is the first `pool_size` levels kept from chunks 0, 1, ...).
     """
 
     source: LevelSource = "generated"
     levelset: str | None = None
     files: tuple[str, ...] = ()
     pool_size: int = 4096
+    pool_chunk: int = 1024
 
     def __post_init__(self):
         _check_types(self)
         _within(self, "pool_size", 1, 10**8)
+        _within(self, "pool_chunk", 1, 2**20)
         if self.source == "levelset":
             _require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
         else:
@@ -507,7 +511,12 @@ def _within(obj, name: str, low: float, high: float, low_excluded: bool = False)
     """Require `low <= value <= high` (`low < value` with `low_excluded`), the range in the message."""
     value = getattr(obj, name)
     ok = (low < value if low_excluded else low <= value) and value <= high
-    _require(obj, name, ok, f"must be {'>' if low_excluded else '>='} {low:g} and <= {high:g}")
+    _require(obj, name, ok, f"must be {'>' if low_excluded else '>='} {_bound(low)} and <= {_bound(high)}")
+
+
+def _bound(value: float) -> str:
+    """A range's end as written: integers in full (2147483647, not 2.14748e+09), other numbers short (3e-4)."""
+    return str(value) if isinstance(value, int) else f"{value:g}"
 
 
 def _coerce(value: Any, hint: Any, key: str) -> Any:

@@ -83,6 +83,16 @@ def initialize(coordinator: str | None, num_processes: int | None, process_id: i
         raise UserError(f"--coordinator {coordinator}: cannot join the run: {message}") from None
     if jax.process_count() > 1:
         threading.Thread(target=_watch, name="kinetix-peers", daemon=True).start()
+        _connect_devices()
+
+
+def _connect_devices() -> None:
+    """Run one collective over every device now, while the processes are together (they just met in
+    `jax.distributed.initialize`): it sets up the CPU collectives' connections between them, which give up when a
+    peer comes more than 30 s after the first; the later collectives of the run then wait for a late peer."""
+    from jax.experimental import multihost_utils
+
+    multihost_utils.sync_global_devices("kinetix: connect the devices")
 
 
 def failed(exc: BaseException) -> None:
@@ -202,12 +212,22 @@ def is_primary() -> bool:
     return jax.process_index() == 0
 
 
-def sync(name: str) -> None:
-    """Wait until every process of a multi-process run gets here (a no-op in a single process)."""
-    if jax.process_count() > 1:
-        from jax.experimental import multihost_utils
+BARRIER_TIMEOUT = 24 * 3600
+"""How long `sync` waits for the other processes [s]: as long as their work before it may take (compiling, a pool
+being generated); a process that died stops the others through the heartbeat watchdog instead."""
 
-        multihost_utils.sync_global_devices(name)
+
+def sync(name: str) -> None:
+    """Wait until every process of a multi-process run gets here (a no-op in a single process). A barrier of
+    jax.distributed's coordination service, not a collective on the devices: the CPU collectives (gloo) give up
+    when a peer is 30 s late to their first use, and a peer can be later than that (compiling what this process
+    read from its compile cache)."""
+    if jax.process_count() > 1:
+        _barriers[name] = _barriers.get(name, 0) + 1  # a barrier id is used once
+        _client().wait_at_barrier(f"kinetix/{name}/{_barriers[name]}", BARRIER_TIMEOUT * 1000)
+
+
+_barriers: dict[str, int] = {}
 
 
 def make_mesh(devices: int | None = None, local_only: bool = False) -> Mesh:
@@ -285,11 +305,18 @@ def pad_batch(tree, multiple: int):
 
 
 def _global(x, sharding: NamedSharding):
-    if isinstance(x, jax.Array) and (x.sharding == sharding or not x.is_fully_addressable):
-        return x if x.sharding == sharding else jax.device_put(x, sharding)
+    if isinstance(x, jax.Array) and x.sharding == sharding:
+        return x
+    if isinstance(x, jax.Array) and not x.is_fully_addressable:  # a global array of another layout (made under
+        return _reshard(x, sharding)  # a mesh): device_put only moves arrays this process holds whole
     if jax.dtypes.issubdtype(getattr(x, "dtype", None), jax.dtypes.prng_key):
         data = np.asarray(jax.random.key_data(x))
         impl = jax.random.key_impl(x)
         return jax.random.wrap_key_data(_global(data, sharding), impl=impl)
     host = np.asarray(x)
     return jax.make_array_from_callback(host.shape, sharding, lambda index: host[index])
+
+
+def _reshard(x: jax.Array, sharding: NamedSharding) -> jax.Array:
+    """A global array laid out as `sharding`, by XLA's collectives (every process calls this with its part)."""
+    return jax.jit(lambda a: a, out_shardings=sharding)(x)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import jax
@@ -15,15 +16,31 @@ from kinetix_cli.levels.levelset import generate_levelset
 FILES = sorted((LEVELS / "s").glob("*.json"))[:6]
 
 
-def small_levelset(out: Path, shard_size: int = 4) -> dict:
-    """Write a 6-level size-s set (shards of `shard_size`) into `out`; returns its manifest."""
-    levels = jax.device_get(stack_levels([load_level(f).build(SIZES["s"]) for f in FILES]))
+def small_levelset(
+    out: Path,
+    shard_size: int = 4,
+    files: list[Path] = FILES,
+    per_chunk: int | None = None,
+    before_chunk: Callable[[int], None] | None = None,
+) -> dict:
+    """Write a set of the size-s level `files` (default: 6 shipped levels; shards of `shard_size`) into `out`;
+    returns its manifest. The levels come in one chunk, or `per_chunk` at a time; `before_chunk(i)` runs before
+    chunk i is handed over (to fail the writes from there on)."""
+    levels = jax.device_get(stack_levels([load_level(f).build(SIZES["s"]) for f in files]))
+    step = per_chunk or len(files)
+
+    def chunk(i: int):
+        if before_chunk is not None:
+            before_chunk(i)
+        rows = slice(i * step, (i + 1) * step)
+        return jax.tree.map(lambda x: x[rows], levels), {"sampled": step}
+
     return generate_levelset(
         out,
         size="s",
-        count=len(FILES),
+        count=len(files),
         seed=0,
         settings={"source": "shipped s levels"},
-        chunk_fn=lambda i: (levels, {"sampled": len(FILES)}),
+        chunk_fn=chunk,
         shard_size=shard_size,
     )

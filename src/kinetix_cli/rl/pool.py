@@ -27,7 +27,11 @@ def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
 def level_pool(config: ExperimentConfig, mesh: Mesh | None = None) -> Level | None:
     """The training levels as one batch of device arrays: level files (each with its own engine constants), a
     level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`; generated on the `mesh`'s
-    devices when given); None for source 'fresh'."""
+    devices when given, one chunk per device: the same levels on any mesh); None for source 'fresh'.
+
+    A multi-process run generates the pool in every process on its local devices (a local mesh): each process
+    gets the whole pool with the program `kinetix generate` runs on one device, and no array of the run's global
+    mesh is involved."""
     settings, size = config.levels, config.env.size
     if settings.source == "fresh":
         return None
@@ -38,7 +42,7 @@ def level_pool(config: ExperimentConfig, mesh: Mesh | None = None) -> Level | No
         if levelset.manifest["size"] != size:
             raise UserError(f"{settings.levelset}: holds size-{levelset.manifest['size']} levels, env.size is {size}")
         return to_device(levelset.levels)
-    chunk = chunk_source(make_config(size), config.run.seed, mesh)
+    chunk = chunk_source(make_config(size, settings.pool_chunk), config.run.seed, mesh)
     chunks, kept, index = [], 0, 0
     while kept < settings.pool_size:
         levels, _ = chunk(index)

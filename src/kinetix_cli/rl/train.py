@@ -41,12 +41,18 @@ from kinetix_cli.constants import EVAL_FORMAT, VERSIONS_FORMAT
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level, to_host
 from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir
+from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir, write_reason
 from kinetix_cli.levels.files import level_paths, load_level
 from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, using
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
-from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner, save_runner
+from kinetix_cli.rl.checkpoints import (
+    CHECKPOINTS,
+    checkpoint_manager,
+    restore_runner,
+    save_runner,
+    writing,
+)
 from kinetix_cli.rl.curricula.buffer import buffer_metrics
 from kinetix_cli.rl.curricula.sfl import refresh_buffer
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
@@ -99,6 +105,8 @@ def train(
     # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
     mesh = make_mesh(devices)
     _check_split(config, mesh)
+    if pool is None:  # each process generates a pool on its own devices: the same levels in every process
+        pool = level_pool(config, make_mesh(devices, local_only=True))
     with using(mesh):
         return _train(config, run_dir, resume, progress, pool, init_params, mesh, devices)
 
@@ -106,7 +114,6 @@ def train(
 def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh, devices) -> Runner:
     saved = run_dir / CONFIG_FILENAME
     evaluator = _evaluator(config, devices)
-    pool = level_pool(config, mesh) if pool is None else pool
     pool = None if pool is None else replicate(pool, mesh)
     fresh = fresh_source(config)
     env, env_params = make_env(config.env)
@@ -127,10 +134,11 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     key = replicate(jax.random.key(config.run.seed), mesh)
     size = curriculum.buffer_size * buffered
     runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=size)
+    origin = f"--from {config.run.init_from}" if init_params is not None else f"run.init_from {config.run.init_from}"
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
-        runner = _with_params(runner, replicate(init_params, mesh), settings)
+        runner = _with_params(runner, replicate(init_params, mesh), settings, origin)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
         with checkpoint_manager(run_dir, read_only=True) as reader:
@@ -152,7 +160,8 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
         log = open(run_dir / METRICS_FILE, "a") if primary else contextlib.nullcontext()  # noqa: SIM115
     except OSError as exc:
         raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
-    with log, manager:
+    kept = start or None  # the last complete checkpoint
+    with log, writing(manager):
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
             if sfl and u % curriculum.refresh_every == 0:  # the curriculum's buffer, scored with the current policy
@@ -184,8 +193,9 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                 every = config.run.checkpoint_every
                 if (every and (u + 1) % every == 0) or last:
                     save_runner(manager, u + 1, runner)
-            except OSError as exc:
-                raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
+                    kept = u + 1
+            except (OSError, UserError, ValueError) as exc:  # orbax reports a failed write as a ValueError
+                raise _write_failed(run_dir, u + 1, exc, kept) from None
             if logger is not None:
                 logger.log(record, step=steps)
             if progress is not None and primary:
@@ -193,6 +203,20 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     if logger is not None:
         logger.finish()
     return runner
+
+
+def _write_failed(run_dir: Path, update: int, exc: Exception, kept: int | None) -> UserError:
+    """The one line for a write that failed during the run (a full disk, a quota, a folder made read-only): what
+    failed, and what is kept: every complete checkpoint and the metrics up to the last one (`checkpoints.writing`
+    removes the partial checkpoint)."""
+    if kept is None:
+        after = "no checkpoint was complete yet; once the folder can be written, rerun with --resume to start again"
+    else:
+        after = (
+            f"the last complete checkpoint ({kept}) is kept; once the folder can be written, rerun with --resume "
+            "to continue from it"
+        )
+    return UserError(f"--run-dir {run_dir}: cannot write update {update}: {write_reason(exc)}; {after}")
 
 
 def _check_split(config: ExperimentConfig, mesh) -> None:
@@ -232,12 +256,13 @@ def finetune_config(
     return load_config(path, [*settings, *overrides])
 
 
-def _with_params(runner: Runner, params, settings) -> Runner:
-    """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match."""
+def _with_params(runner: Runner, params, settings, origin: str) -> Runner:
+    """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match (else an
+    error naming `origin`, the flag or key and where the parameters came from)."""
     if jax.tree.structure(params) != jax.tree.structure(runner.params) or any(
         a.shape != b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(runner.params), strict=True)
     ):
-        raise UserError("--from: the checkpoint's network does not match this run's model settings")
+        raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings")
     params = jax.tree.map(jnp.asarray, params)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
 
