@@ -11,3 +11,8 @@ class UserError(Exception):
 
 class LevelError(UserError):
     """A level file that cannot be loaded: the message names the file, the entity and the field."""
+
+
+class WriteError(UserError):
+    """A file or folder that could not be written (a full disk, a quota, a read-only folder): the message names the
+    path and the reason; callers that keep partial work add what was kept."""

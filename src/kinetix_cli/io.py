@@ -7,7 +7,8 @@ Output discipline, for every file the toolkit writes:
 - files are written atomically into regular files only (`atomic_write`): a temporary file next to the target,
   fsynced and moved into place; it is removed on every exit path, and the stale temporary files of a killed
   earlier write of the same target are removed first;
-- every OS error is one `UserError` line naming the path.
+- every OS error is one `UserError` line naming the path (a `WriteError` for a failed write, to which a caller that
+  keeps partial work adds what was kept).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, BinaryIO
 
-from kinetix_cli.errors import UserError
+from kinetix_cli.errors import UserError, WriteError
 
 MAX_JSON_BYTES = 64 * 2**20
 """Largest JSON file the toolkit reads (a level, a manifest, a report) [bytes]."""
@@ -97,7 +98,10 @@ def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> 
     file or the whole new one, never a part. Parent folders are created; the file keeps the permissions it
     had (a new file gets the usual ones, 0o666 less the umask, not mkstemp's private 0o600). A path that is not
     a regular file (a folder, a FIFO, a device) is refused, never replaced; OS errors are one-line `UserError`s."""
-    path = check_output_file(path, "cannot write")
+    try:
+        path = check_output_file(path, "cannot write")
+    except UserError as exc:  # the folder turned read-only, or a file took its place, since the work started
+        raise WriteError(str(exc)) from None
     tmp = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -112,7 +116,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> 
         os.replace(tmp, path)
         tmp = None
     except OSError as exc:
-        raise UserError(f"{path}: cannot write: {exc.strerror or exc}") from None
+        raise WriteError(f"{path}: cannot write: {exc.strerror or exc}") from None
     finally:
         if tmp is not None:
             Path(tmp).unlink(missing_ok=True)
@@ -136,9 +140,29 @@ def atomic_folder(out: Path, flag: str) -> Iterator[Path]:
         else:
             staging.rename(out)
     except OSError as exc:
-        raise UserError(f"{flag} {out}: cannot write: {exc.strerror or exc}") from None
+        raise WriteError(f"{flag} {out}: cannot write: {exc.strerror or exc}") from None
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+_STATUS_REASONS = {
+    "RESOURCE_EXHAUSTED": "no space left on the device (or a quota reached)",
+    "PERMISSION_DENIED": "permission denied",
+}
+"""What tensorstore's status codes (orbax's writer) mean for a file write."""
+
+
+def write_reason(exc: BaseException) -> str:
+    """Why a write failed, in a few words: the OS error (No space left on device, Read-only file system, Disk
+    quota exceeded, ...), a `UserError`'s own line, or the status of a library's writer (orbax reports tensorstore
+    statuses such as RESOURCE_EXHAUSTED in a ValueError)."""
+    if isinstance(exc, OSError):
+        return exc.strerror or str(exc)
+    text = str(exc).strip()
+    for status, reason in _STATUS_REASONS.items():
+        if status in text:
+            return reason
+    return text.splitlines()[0][:200] if text else type(exc).__name__
 
 
 def current_umask() -> int:

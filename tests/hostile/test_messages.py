@@ -6,9 +6,12 @@ from __future__ import annotations
 import json
 import shutil
 
+import yaml
+
 from helpers.cli import kinetix
 from helpers.levels import CAR
 from helpers.paths import REFERENCE_LEVELS
+from helpers.runs import EVAL_LEVEL, TINY, set_args
 
 
 def test_bracketed_file_names_print_whole(capsys, tmp_path):
@@ -49,3 +52,28 @@ def test_warnings_are_one_line_each_without_markup(capsys, tmp_path):
     warnings = [line for line in result.err.splitlines() if line]
     assert result.code == 0 and warnings
     assert all(line.startswith(f"warning: {tmp_path}/[ref].json: ") for line in warnings)
+
+
+def test_integer_bounds_print_as_integers(capsys, tmp_path):
+    args = ["pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "r"]
+    line = kinetix(capsys, *args, "--set", "run.seed=-1").error_line
+    assert "run.seed: must be >= 0 and <= 2147483647 (got -1)" in line
+    line = kinetix(capsys, *args, "--set", "curriculum.refresh_every=0").error_line
+    assert "curriculum.refresh_every: must be >= 1 and <= 2147483647 (got 0)" in line
+    line = kinetix(capsys, *args, "--set", "curriculum.buffer_share=0").error_line
+    assert "curriculum.buffer_share: must be > 0 and <= 1 (got 0.0)" in line  # a float bound stays short
+
+
+def test_finetune_from_a_run_of_another_model_names_the_flag(capsys, tmp_path, tiny_run):
+    finetune = ["finetune", EVAL_LEVEL, "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
+    other = shutil.copytree(tiny_run, tmp_path / "other")  # its checkpoint holds another model than its config says
+    config = yaml.safe_load((other / "config.yaml").read_text())
+    config["model"]["width"] = 32
+    (other / "config.yaml").write_text(yaml.safe_dump(config))
+    line = kinetix(capsys, *finetune, "--from", other, "--run-dir", tmp_path / "a").error_line
+    assert line.startswith(f"error: --from {other}/checkpoints/6: its parameters do not fit the model")
+    line = kinetix(
+        capsys, *finetune, "--from", tiny_run, "--run-dir", tmp_path / "b", "--set", "model.width=32"
+    ).error_line
+    assert line == f"error: --from {tiny_run}: the checkpoint's network does not match this run's model settings"
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()

@@ -64,14 +64,25 @@ def finetune(
     still wins. --from none uses the config's, so pass the same --set values to compare the two at equal
     settings."""
     from kinetix_cli.levels.files import level_paths
-    from kinetix_cli.rl.agents import load_policy
     from kinetix_cli.rl.train import finetune_config
 
     with joined(coordinator, num_processes, process_id):
-        pretrained, params = (None, None) if source == "none" else load_policy(source)[:2]
+        pretrained, params = (None, None) if source == "none" else _load_from(source)
         origin = None if source == "none" else source
         experiment = finetune_config(config, level_paths(levels), pretrained, overrides, init_from=origin)
         _train_with_progress(experiment, run_dir, resume, params, devices)
+
+
+def _load_from(source: str):
+    """(config, params) of the agent `--from` names; an error names the flag and the source."""
+    from kinetix_cli.errors import UserError
+    from kinetix_cli.rl.agents import load_policy
+
+    try:
+        return load_policy(source)[:2]
+    except UserError as exc:
+        text = str(exc)
+        raise UserError(f"--from {text}" if text.startswith(source) else f"--from {source}: {text}") from None
 
 
 def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=None, devices=None) -> None:
@@ -118,6 +129,7 @@ def eval_command(
     if json_path is not None:
         check_output_file(json_path, "--json")
     from kinetix_cli.constants import EVAL_FORMAT
+    from kinetix_cli.errors import WriteError
     from kinetix_cli.io import atomic_write_json
     from kinetix_cli.levels.files import level_paths
     from kinetix_cli.rl.agents import load_policy
@@ -133,5 +145,10 @@ def eval_command(
         table.add_row(Text(f"{name} ({row['levels']} levels)", style="bold"), f"{row['solve_rate']:.0%}", "", "")
     console.print(table)
     if json_path is not None:
-        atomic_write_json(json_path, evaluation_record(str(policy), update, attempts, seed, results), EVAL_FORMAT)
+        existed = json_path.exists()
+        try:
+            atomic_write_json(json_path, evaluation_record(str(policy), update, attempts, seed, results), EVAL_FORMAT)
+        except WriteError as exc:
+            kept = f"; {json_path} is unchanged" if existed else ""
+            raise WriteError(f"--json {exc}; the results are in the table above{kept}") from None
         console.print(f"wrote {json_path}")

@@ -30,7 +30,7 @@ import numpy as np
 from engine import SIZES, Scene
 from kinetix_cli.constants import LEVELSET_FORMAT, LEVELSET_PROGRESS_FORMAT
 from kinetix_cli.env.level import Level, empty_bindings, index_level, make_level
-from kinetix_cli.errors import UserError
+from kinetix_cli.errors import UserError, WriteError
 from kinetix_cli.io import atomic_write, atomic_write_json, check_output_dir, read_format
 from kinetix_cli.parallel import is_primary, process_count, process_index, sync
 from kinetix_cli.provenance import tool_version
@@ -64,7 +64,8 @@ class _Run:
     """The driver's carry: where the next level comes from and what has been kept so far.
 
     `stats` holds the counters of chunks < `next_chunk`, and of chunk `next_chunk` too when `offset` > 0.
-    `pending` holds kept levels not yet in a shard (fewer than a shard); `hashes` all kept level digests.
+    `pending` holds kept levels not yet in a shard (fewer than a shard); `hashes` all kept level digests;
+    `recorded` the shards that `progress.json` names (what a resumed run keeps).
     """
 
     next_chunk: int = 0
@@ -74,6 +75,7 @@ class _Run:
     hashes: set = dataclasses.field(default_factory=set)
     pending: list = dataclasses.field(default_factory=list)
     kept: int = 0
+    recorded: list = dataclasses.field(default_factory=list)
 
 
 def template_level(size: str) -> Level:
@@ -198,8 +200,20 @@ def generate_levelset(
         return manifest
     run = _resume(out, identity, template)
     sync("levelset checked")  # every process has read the folder before the primary writes to it
-    if not (out / PROGRESS_FILE).is_file() and is_primary():
-        _save_progress(out, run, identity)
+    try:
+        if not (out / PROGRESS_FILE).is_file():
+            _save_progress(out, run, identity)
+        return _generate(out, run, count, identity, chunk_fn, template, progress)
+    except WriteError as exc:
+        kept = sum(shard["count"] for shard in run.recorded)
+        raise WriteError(
+            f"{exc}; the {kept:,} levels of the {len(run.recorded)} complete shards are kept; once the folder can "
+            "be written, rerun the same command to continue"
+        ) from None
+
+
+def _generate(out: Path, run: _Run, count: int, identity: dict, chunk_fn, template: Arrays, progress) -> dict:
+    """`generate_levelset`'s loop: chunks until `count` levels are kept, then the manifest."""
     idle = 0  # chunks in a row that added no level
     while run.kept < count:
         i, (arrays, chunk_stats) = run.next_chunk, _chunk(chunk_fn, run.next_chunk, template)
@@ -274,10 +288,11 @@ def _write_shard(out: Path, run: _Run, identity: dict) -> None:
 
 
 def _save_progress(out: Path, run: _Run, identity: dict) -> None:
-    if not is_primary():
-        return
-    fields = {"next_chunk": run.next_chunk, "offset": run.offset, "stats": run.stats, "shards": run.shards}
-    atomic_write_json(out / PROGRESS_FILE, dict(identity, **fields), PROGRESS_FORMAT)
+    """Record where to resume (the primary process writes it); its shards are then kept for good."""
+    if is_primary():
+        fields = {"next_chunk": run.next_chunk, "offset": run.offset, "stats": run.stats, "shards": run.shards}
+        atomic_write_json(out / PROGRESS_FILE, dict(identity, **fields), PROGRESS_FORMAT)
+    run.recorded = list(run.shards)
 
 
 def _resume(out: Path, identity: dict, template: Arrays) -> _Run:
@@ -302,6 +317,7 @@ def _resume(out: Path, identity: dict, template: Arrays) -> _Run:
     for entry in run.shards:
         run.hashes.update(level_digests(read_shard(out / entry["file"], entry, template)))
         run.kept += entry["count"]
+    run.recorded = list(run.shards)
     return run
 
 

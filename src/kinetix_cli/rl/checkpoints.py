@@ -15,8 +15,11 @@ is read unverified.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import logging
+import shutil
+from collections.abc import Iterator
 from pathlib import Path
 
 import jax
@@ -44,6 +47,35 @@ def checkpoint_manager(run_dir: Path, read_only: bool = False) -> ocp.Checkpoint
     """The orbax manager of `run_dir/checkpoints` (`read_only`: never creates or deletes anything)."""
     options = ocp.CheckpointManagerOptions(max_to_keep=KEEP, create=not read_only)
     return ocp.CheckpointManager(Path(run_dir).resolve() / CHECKPOINTS, options=options)
+
+
+@contextlib.contextmanager
+def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
+    """Use `manager` to write checkpoints, and close it at the end. orbax reports a failed write (a full disk) in
+    log records with stack traces from its background threads, then as an exception of `save_runner`, and again
+    when the manager closes: the records are silenced and the close after a failure is quiet, so the caller's
+    one line is all the user sees. After a failure the partial checkpoint is removed (its space freed)."""
+    with _orbax_log_level(logging.CRITICAL):
+        try:
+            yield manager
+        except BaseException:
+            with contextlib.suppress(Exception):
+                manager.close()
+            remove_partial_checkpoints(Path(manager.directory).parent)
+            raise
+        manager.close()
+
+
+@contextlib.contextmanager
+def _orbax_log_level(level: int) -> Iterator[None]:
+    """orbax logs through absl's logger: only records of `level` and above pass while the block runs."""
+    absl = logging.getLogger("absl")
+    before = absl.level
+    absl.setLevel(level)
+    try:
+        yield
+    finally:
+        absl.setLevel(before)
 
 
 def leaf_name(path) -> str:
@@ -75,6 +107,19 @@ def save_runner(manager: ocp.CheckpointManager, update: int, runner: Runner) -> 
         return
     step_dir = Path(manager.directory) / str(update)
     atomic_write_json(step_dir / CHECKSUMS_FILE, {"update": update, "files": file_digests(step_dir)}, CHECKSUMS_FORMAT)
+
+
+def remove_partial_checkpoints(run_dir: Path) -> None:
+    """Remove what a failed or killed checkpoint write left in `run_dir/checkpoints` (orbax's temporary folders);
+    complete checkpoints stay. Only the primary process removes."""
+    if not is_primary():
+        return
+    for partial in (Path(run_dir) / CHECKPOINTS).glob(f"*{PARTIAL}*"):
+        shutil.rmtree(partial, ignore_errors=True)
+
+
+PARTIAL = ".orbax-checkpoint-tmp"
+"""What orbax puts in the name of a checkpoint folder it has not finished."""
 
 
 def verify_checkpoint(step_dir: Path) -> None:
@@ -167,13 +212,8 @@ def _restore_raw(path: Path) -> tuple[ExperimentConfig, dict, Path]:
 def _on_one_device(step_dir: Path):
     """The abstract tree of a checkpoint (from its metadata) placed on this process's first device: a
     checkpoint written by a run on several devices or processes reads back anywhere."""
-    absl = logging.getLogger("absl")  # orbax warns that the item folder has no checkpoint metadata of its own
-    level = absl.level
-    absl.setLevel(logging.ERROR)
-    try:
+    with _orbax_log_level(logging.ERROR):  # orbax warns that the item folder has no checkpoint metadata of its own
         metadata = ocp.StandardCheckpointer().metadata(step_dir.resolve() / "default").item_metadata.tree  # absolute
-    finally:
-        absl.setLevel(level)
     device = jax.sharding.SingleDeviceSharding(jax.local_devices()[0])
     return jax.tree.map(lambda m: jax.ShapeDtypeStruct(m.shape, m.dtype, sharding=device), metadata)
 
