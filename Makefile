@@ -5,7 +5,8 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-dev
 CMP_STAMP := $(VENV)/.installed-compare
 PYTEST_FLAGS ?=
-TEST_WORKERS ?= 2  # pytest-xdist processes for `make test` (each compiles its own session fixtures)
+TEST_WORKERS ?= 3  # pytest-xdist processes for `make test`: one more than CI's 2 cores, which keeps both busy while
+                   # a test waits on the `kinetix` processes it started
 
 .PHONY: demo test test-all lint format bench clean reference-levels
 

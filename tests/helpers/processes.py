@@ -8,7 +8,6 @@ import socket
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 KINETIX = [sys.executable, "-c", "from kinetix_cli.cli.app import main; main()"]
 FORCE_2 = "--xla_force_host_platform_device_count=2"
@@ -17,9 +16,10 @@ TIMEOUT = 600
 """A bound on every process [s]: a hang fails the test instead of stalling the suite."""
 
 
-def cache_env(folder: Path) -> dict:
-    """The environment with a compile cache in `folder`, shared by processes that compile the same programs."""
-    return os.environ | {"JAX_COMPILATION_CACHE_DIR": str(folder)}
+def process_env() -> dict:
+    """The environment of a started process: this one's, with the suite's compile cache (tests/conftest.py), so
+    processes that compile the same programs compile them once."""
+    return dict(os.environ)
 
 
 def free_port() -> int:
@@ -29,7 +29,9 @@ def free_port() -> int:
 
 
 def start(args: list, env: dict, **extra) -> subprocess.Popen:
-    """`kinetix ARGS` started with `env` plus the variables `extra`."""
+    """`kinetix ARGS` started with `env` plus the variables `extra` (XLA_FLAGS are added to `env`'s)."""
+    if "XLA_FLAGS" in extra:
+        extra["XLA_FLAGS"] = f"{env.get('XLA_FLAGS', '')} {extra['XLA_FLAGS']}".strip()
     return subprocess.Popen(
         [*KINETIX, *map(str, args)], env=env | extra, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )

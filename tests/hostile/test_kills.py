@@ -17,6 +17,7 @@ import jax
 import numpy as np
 import pytest
 
+from helpers.processes import process_env
 from helpers.runs import TINY, set_args
 from kinetix_cli.rl.checkpoints import load_policy
 
@@ -26,9 +27,9 @@ KINETIX = [sys.executable, "-c", "from kinetix_cli.cli.app import main; main()"]
 
 
 @pytest.fixture(scope="module")
-def env(tmp_path_factory):
-    """A shared compile cache, so every process after the first skips most of its compile."""
-    return os.environ | {"JAX_COMPILATION_CACHE_DIR": str(tmp_path_factory.mktemp("jax-cache"))}
+def env():
+    """The suite's compile cache, so every process after the first skips most of its compile."""
+    return process_env()
 
 
 def run(args: list, env: dict) -> None:

@@ -9,7 +9,7 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from helpers.processes import FORCE_2, cache_env, processes, run_ok, start
+from helpers.processes import FORCE_2, process_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
 from kinetix_cli.levels.files import load_level
 
@@ -60,13 +60,13 @@ def test_generate_info_show_export(tmp_path, generated):
 def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
     # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
     # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0
-    run_ok(processes([*GENERATE, "--out", tmp_path / "two-processes"], cache_env(tmp_path / "cache")))
+    run_ok(processes([*GENERATE, "--out", tmp_path / "two-processes"], process_env()))
     assert files_of(tmp_path / "two-processes") == files_of(generated)
 
 
 @pytest.mark.slow
 def test_two_devices_write_the_set_of_one_device(tmp_path, generated):
-    run_ok([start([*GENERATE, "--out", tmp_path / "two-devices"], cache_env(tmp_path / "cache"), XLA_FLAGS=FORCE_2)])
+    run_ok([start([*GENERATE, "--out", tmp_path / "two-devices"], process_env(), XLA_FLAGS=FORCE_2)])
     assert files_of(tmp_path / "two-devices") == files_of(generated)
 
 

@@ -1,9 +1,10 @@
-"""Training across devices and processes gives the run of one device. The tiny run's first 4 updates (checkpoints 2
-and 4, no evaluation) on 2 forced host devices in one process and as 2 processes of one device each on localhost
-(gloo collectives), against the session's tiny run (1 device, this process) at its checkpoint 4; a killed process
-(a peer, or process 0 with the coordination service) stops the other with one line. (make test-all: the tiny SFL
-run's first 6 updates on 2 devices against its first 6 on 1; kill -9 of either process, then --resume.)
-Each `kinetix` process compiles its own programs: ~20 s of CPU each.
+"""Training across devices and processes gives the run of one device, with level files (every other source and
+curriculum: tests/hostile/test_sources_on_devices.py). make test: a killed peer stops the other with one line, and
+bad flags are one line. make test-all: the tiny run's first 4 updates (checkpoints 2 and 4, no evaluation) on 2
+forced host devices in one process against the session's tiny run (1 device, this process) at its checkpoint 4, and
+as 2 processes of one device each on localhost (gloo collectives), bit for bit against 2 devices; a killed process
+0, with the coordination service; the tiny SFL run's first 6 updates on 2 devices against its first 6 on 1; kill -9
+of either process, then --resume. Each `kinetix` process compiles its own programs: ~20 s of CPU each.
 
 The 2-device program splits every batch and averages the gradient with an all-reduce, so its sums run in
 another order than the 1-device program's: parameters agree to float32 rounding (`PARAMS_ATOL`), not bit for
@@ -21,12 +22,12 @@ import jax
 import numpy as np
 import pytest
 
-from helpers.processes import FORCE_2, TIMEOUT, cache_env, finish, processes, run_ok, start
-from helpers.runs import SFL, SFL_RUN_GROUP, TINY, set_args, sfl_config
+from helpers.processes import FORCE_2, TIMEOUT, finish, process_env, processes, run_ok, start
+from helpers.runs import SFL, TINY, set_args, sfl_config
 from kinetix_cli.parallel import PEER_LOST_EXIT
 from kinetix_cli.rl.checkpoints import load_policy
 
-pytestmark = SFL_RUN_GROUP
+pytestmark = pytest.mark.xdist_group("train-parallel")  # one worker makes the module's runs
 
 PRETRAIN = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
 FOUR = [*PRETRAIN, "--set", "ppo.total_timesteps=256", "--set", "run.eval_every=0"]
@@ -38,8 +39,8 @@ fraction of a step (lr 3e-4) more or less. Measured after 6 updates: up to 6e-8 
 
 
 @pytest.fixture(scope="module")
-def env(tmp_path_factory):
-    return cache_env(tmp_path_factory.mktemp("jax-cache"))
+def env():
+    return process_env()
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +74,7 @@ def assert_close(one: list[dict], other: list[dict]) -> None:
         np.testing.assert_allclose([a[k] for k in a], [b[k] for k in a], rtol=1e-4, atol=1e-6)
 
 
+@pytest.mark.slow  # make test: 2 processes vs 1 device, pool and level set (tests/hostile/test_sources_on_devices.py)
 def test_two_devices_train_as_one_device(tiny_run, two_device_run):
     for a, b in zip(params(tiny_run / "checkpoints" / "4"), params(two_device_run), strict=True):
         np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
@@ -80,6 +82,7 @@ def test_two_devices_train_as_one_device(tiny_run, two_device_run):
     assert sorted(p.name for p in (two_device_run / "checkpoints").iterdir()) == ["2", "4"]
 
 
+@pytest.mark.slow  # make test: 2 processes vs 1 device, pool and level set (tests/hostile/test_sources_on_devices.py)
 def test_two_processes_train_as_two_devices_bit_for_bit(tiny_run, two_device_run, two_process_run):
     for a, b in zip(params(two_device_run), params(two_process_run), strict=True):
         np.testing.assert_array_equal(a, b)
@@ -107,14 +110,17 @@ def test_an_sfl_run_on_two_devices_trains_as_on_one_device(tmp_path, env, sfl_ru
 
 @pytest.mark.parametrize(
     ("victim", "says"),
-    [(1, "error: process 0: process 1 stopped"), (0, "error: process 1: lost the coordinator (process 0)")],
+    [
+        (1, "error: process 0: process 1 stopped"),
+        pytest.param(0, "error: process 1: lost the coordinator (process 0)", marks=pytest.mark.slow),
+    ],
     ids=["peer", "coordinator"],
 )
-def test_a_killed_process_stops_the_other_with_one_line(tmp_path, env, two_process_run, victim, says):
-    # the same run as `two_process_run` (its compiles are in the cache); a process is killed as soon as process 0
-    # has written the run's config, so the other is waiting for it in the run's first steps. Process 1 is seen
-    # by the heartbeat watchdog (10 s); process 0 takes the coordination service with it, which jax's runtime
-    # answers with an abort and a stack trace, replaced by one line by the supervisor of each process
+def test_a_killed_process_stops_the_other_with_one_line(tmp_path, env, victim, says):
+    # `two_process_run`'s command; a process is killed as soon as process 0 has written the run's config, so the
+    # other is waiting for it in the run's first steps. Process 1 is seen by the heartbeat watchdog (10 s); process
+    # 0 takes the coordination service with it, which jax's runtime answers with an abort and a stack trace,
+    # replaced by one line by the supervisor of each process
     run_dir = tmp_path / "killed"
     started = processes([*FOUR, "--run-dir", run_dir], env)
     deadline = time.monotonic() + TIMEOUT
