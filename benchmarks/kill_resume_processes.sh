@@ -15,7 +15,7 @@ kinetix=${KINETIX:-.venv/bin/kinetix}
 python=${PYTHON:-.venv/bin/python}
 victim=${VICTIM:-1}
 mkdir -p "$out"
-# 8 updates of 2,048 steps, checkpoints every 2; no evaluation (it does not change training)
+# 8 updates (of 2,048 steps; PLR's of 8,192), checkpoints every 2; no evaluation (it does not change training)
 common=(--set ppo.total_timesteps=16384 --set run.checkpoint_every=2 --set run.eval_every=0)
 [ -f "$out/set/manifest.json" ] || "$kinetix" generate --size s --count 256 --seed 0 --out "$out/set" >/dev/null
 
@@ -24,7 +24,7 @@ variant_args() {
     pool) echo "--config experiments/cpu-small.yaml" ;;
     levelset) echo "--config experiments/cpu-small.yaml --levels $out/set" ;;
     sfl) echo "--config experiments/cpu-small.yaml --set curriculum.name=sfl" ;;
-    plr) echo "--config experiments/cpu-plr.yaml --set ppo.total_timesteps=16384" ;;
+    plr) echo "--config experiments/cpu-plr.yaml --set ppo.total_timesteps=65536" ;;  # its updates are 8,192 steps
   esac
 }
 
@@ -47,7 +47,10 @@ for variant in ${VARIANTS:-pool levelset sfl plr}; do
   wait
   run_two "$cut" "${args[@]}" "${common[@]}"
   pids=($(jobs -p))
-  until [ -f "$cut/checkpoints/4/kinetix-checksums.json" ]; do sleep 0.05; done
+  until [ -f "$cut/checkpoints/4/kinetix-checksums.json" ]; do
+    if [ -z "$(jobs -rp)" ]; then echo "$variant: the run ended without checkpoint 4" >&2; exit 1; fi
+    sleep 0.05
+  done
   kill -9 "${pids[$victim]}"
   wait || true
   if [ -d "$cut/checkpoints/8" ]; then echo "$variant: the run ended before the kill; rerun" >&2; status=1; continue; fi
