@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The GPU benchmark, one script of at most ~8 minutes on one GPU: the engine against Jax2D at size m (1,024 to 8,192
+# scenes), PPO training env steps/s with pi-mlp and the entity transformer at 2,048 envs (size m, the reference's
+# 64 steps x 8 epochs x 32 minibatches), and a few minutes of SFL with the transformer (experiments/pretrain-s.yaml,
+# the reference recipe, then evaluated zero-shot with 50 attempts per level). gpu_summary.py prints the tables for BENCHMARKS.md.
+#
+#   benchmarks/gpu.sh OUT_DIR
+#   TINY=1       the same steps at CPU sizes (seconds, not minutes): the smoke test of `make test-all`
+#   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 150)
+#   KINETIX      the command (default .venv/bin/kinetix); PYTHON likewise
+#   EVAL_LEVELS  the SFL run's evaluation suite (default: the paper's s levels if fetched, else levels/s)
+set -euo pipefail
+if [ $# -ne 1 ]; then
+  echo "usage: $0 OUT_DIR" >&2
+  exit 2
+fi
+out=$1
+here=$(dirname "$0")
+kinetix=${KINETIX:-.venv/bin/kinetix}
+python=${PYTHON:-.venv/bin/python}
+eval_levels=${EVAL_LEVELS:-levels/s}
+[ -z "${EVAL_LEVELS:-}" ] && [ -d .cache/reference-levels/s ] && eval_levels=.cache/reference-levels/s
+mkdir -p "$out"
+
+if [ "${TINY:-0}" = 1 ]; then
+  engine=(--envs 2,4 --steps 2 --min-time 0.1)
+  train=(--envs 8 --steps 8 --epochs 1 --minibatches 2 --width 16 --layers 1 --min-time 0.1)
+  sfl=(--set ppo.num_envs=8 --set ppo.num_steps=8 --set ppo.update_epochs=1 --set ppo.num_minibatches=2
+    --set model.width=16 --set model.actor_critic_layers=1 --set model.transformer_layers=1 --set model.heads=4
+    --set curriculum.score_levels=8 --set curriculum.score_batch=8 --set curriculum.score_steps=8
+    --set curriculum.buffer_size=4 --set curriculum.refresh_every=2 --set run.eval_attempts=2)
+  seconds=${SFL_SECONDS:-0.2}
+else
+  engine=(--envs 1024,2048,4096,8192 --steps 20 --min-time 1)
+  train=(--envs 2048 --steps 64 --epochs 8 --minibatches 32 --width 128 --layers 5 --min-time 5)
+  sfl=(--set run.eval_attempts=50)
+  seconds=${SFL_SECONDS:-150}
+fi
+
+"$python" -c "import jax; print('devices:', jax.devices())"
+"$kinetix" bench engine --size m "${engine[@]}" --against jax2d --json "$out/engine-m.json"
+"$kinetix" bench train --size m --models pi-mlp,transformer "${train[@]}" --json "$out/train-m.json"
+
+# The SFL run: as many updates as the transformer's measured rate fits into $seconds (SFL's scoring comes on top)
+steps=$("$python" "$here/gpu_summary.py" --sfl-steps "$out/train-m.json" "$seconds" "${sfl[@]}")
+rm -rf "$out/sfl"
+start=$(date +%s)
+"$kinetix" pretrain --config experiments/pretrain-s.yaml --run-dir "$out/sfl" "${sfl[@]}" \
+  --set "ppo.total_timesteps=$steps" --set run.eval_every=0 --set run.checkpoint_every=0
+echo "$(($(date +%s) - start))" >"$out/sfl/wall_seconds"
+"$kinetix" eval "$out/sfl" --levels "$eval_levels" --attempts "$([ "${TINY:-0}" = 1 ] && echo 2 || echo 50)" \
+  --json "$out/sfl/eval.json"
+"$python" "$here/gpu_summary.py" "$out"
