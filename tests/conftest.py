@@ -28,7 +28,15 @@ tiny, so compile time dominates it: the tiny run compiles in 18 s instead of 30,
 bit are all compiled this way."""
 
 
+FAST_CODEGEN = "--xla_cpu_use_fusion_emitters=false"
+"""XLA flag of the suite (and every process it starts): XLA's CPU backend emits fused loops with its older
+elemental emitter instead of the MLIR fusion emitters, which compiles the suite's programs ~40% faster (the tiny
+SFL run's first update: 27 s -> 16 s with `FAST_COMPILE`) and runs them no slower. jax reads XLA_FLAGS when its
+backend starts, at the first array, after `pytest_configure`."""
+
+
 def pytest_configure(config):
+    os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {FAST_CODEGEN}".strip()
     os.environ["JAX_COMPILATION_CACHE_DIR"] = str(COMPILE_CACHE)  # started processes inherit it
     os.environ[FAST_COMPILE] = "1"
     jax.config.update("jax_disable_most_optimizations", True)
