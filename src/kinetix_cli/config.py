@@ -68,7 +68,8 @@ class EnvSettings:
     Attributes:
         size: entity capacities 's', 'm' or 'l' (polygons/circles/joints/thrusters 5/2/1/1, 6/3/2/2, 12/4/6/2).
             Levels smaller than the size are padded up; a level too big for it is an error.
-        observation: 'symbolic-entity' (per-entity features and attention masks; for 'transformer' and 'pi-mlp'),
+        observation: 'symbolic-entity' (per-entity features and attention masks; for 'transformer', 'pi-mlp' and
+            'rel-mlp'),
             'symbolic-flat' (one vector) or 'pixels' (125 x 125 RGB); `constants.MODEL_OBSERVATIONS` says which
             model reads which.
         action: 'multi-discrete' (per binding: motor off/+1/-1, thruster off/on), 'discrete' (11 choices, one
@@ -100,8 +101,10 @@ class ModelSettings:
 
     Attributes:
         name: 'transformer' (entity transformer, size-independent, needs env.observation 'symbolic-entity'),
-            'pi-mlp' (permutation-invariant MLP over entities, also 'symbolic-entity') or 'flat-mlp' (an MLP on
-            'symbolic-flat', or on the flattened 'pixels').
+            'pi-mlp' (permutation-invariant MLP over entities, also 'symbolic-entity'), 'rel-mlp' (the same with
+            actuators joined to their bodies, world-frame thrust, shapes relative to green and blue, and pooling by
+            role and by action binding; 'symbolic-entity') or 'flat-mlp' (an MLP on 'symbolic-flat', or on the
+            flattened 'pixels').
         width: hidden width of the entity encoders, transformer embedding and actor/critic layers [units].
         actor_critic_layers: hidden layers (tanh) in each of the actor and critic heads.
         transformer_layers: transformer blocks ('transformer' only).
@@ -223,7 +226,7 @@ class RunSettings:
     seed: int = 0
     checkpoint_every: int = 100
     eval_every: int = 100
-    eval_attempts: int = 20
+    eval_attempts: int = 50
     eval_levels: tuple[str, ...] = ()
     wandb: WandbMode = "off"
     init_from: str | None = None

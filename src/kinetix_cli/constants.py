@@ -32,6 +32,7 @@ SIZE_INDEPENDENT_OBSERVATIONS = ("symbolic-entity", "pixels")
 MODEL_OBSERVATIONS = {
     "transformer": ("symbolic-entity",),
     "pi-mlp": ("symbolic-entity",),
+    "rel-mlp": ("symbolic-entity",),
     "flat-mlp": ("symbolic-flat", "pixels"),
 }
 """The observation types each model reads (`flat-mlp` flattens the pixel image); any other pair is refused."""

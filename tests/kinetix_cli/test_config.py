@@ -125,7 +125,7 @@ def test_defaults_fill_missing_sections_and_fields(tmp_path):
     config = load_config(write(tmp_path, MINIMAL + "levels:\n"), [])
     assert config == ExperimentConfig(ppo=PPOSettings(total_timesteps=1_000_000))
     assert (config.env, config.run, config.levels) == (EnvSettings(), RunSettings(), LevelSettings())
-    assert config.run.wandb == "off" and config.run.eval_attempts == 20
+    assert config.run.wandb == "off" and config.run.eval_attempts == 50
     assert config.ppo.num_updates == 1_000_000 // (2048 * 64)
     assert config.ppo.minibatch_size == 2048 * 64 // 32
 

@@ -119,7 +119,7 @@ def eval_command(
         ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update>, an agent folder or a shipped agent."
     ),
     levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
-    attempts: int = typer.Option(20, min=1, max=10**5, help="Stochastic episodes per level."),
+    attempts: int = typer.Option(50, min=1, max=10**5, help="Stochastic episodes per level."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
     devices: int = DEVICES,

@@ -49,6 +49,16 @@ CIRCLE_FEATURES = 18
 JOINT_FEATURES = 22
 THRUSTER_FEATURES = 8
 
+# Columns that models read by meaning (the layout above): a shape row's position, role and angle, a joint row's
+# motor binding, a thruster row's binding, anchor and body-frame direction.
+SHAPE_POSITION = slice(0, 2)
+SHAPE_ROLE = slice(8, 12)
+SHAPE_SIN, SHAPE_COS = 12, 13
+JOINT_BINDING = slice(4, 8)
+THRUSTER_BINDING = slice(1, 3)
+THRUSTER_ANCHOR = slice(4, 6)
+THRUSTER_DIRECTION = slice(6, 8)
+
 
 def shape_features(static: Static, physics) -> jax.Array:
     """(N, 17) common features of every body slot (see the module docstring); inactive rows are zero."""

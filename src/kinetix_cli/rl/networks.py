@@ -32,12 +32,23 @@ import numpy as np
 
 from engine import Scene
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings
-from kinetix_cli.constants import MODEL_OBSERVATIONS, NUM_ATTENTION_CHANNELS
+from kinetix_cli.constants import MODEL_OBSERVATIONS, NUM_ATTENTION_CHANNELS, ROLE_NAMES
 from kinetix_cli.env.actions import action_space
 from kinetix_cli.env.episode import Policy
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import empty_bindings, make_level
-from kinetix_cli.env.observations import EntityObservation
+from kinetix_cli.env.observations import (
+    JOINT_BINDING,
+    SHAPE_COS,
+    SHAPE_FEATURES,
+    SHAPE_POSITION,
+    SHAPE_ROLE,
+    SHAPE_SIN,
+    THRUSTER_ANCHOR,
+    THRUSTER_BINDING,
+    THRUSTER_DIRECTION,
+    EntityObservation,
+)
 from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
 
 FEATURE_AXES = {"symbolic-flat": 1, "pixels": 3}
@@ -231,6 +242,93 @@ class PermutationInvariantMLP(nn.Module):
         return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
 
 
+def gather_rows(rows: jax.Array, index: jax.Array) -> jax.Array:
+    """(..., R, D) rows[..., index[r], :] of (..., N, D) rows for (..., R) int indices (any leading shape)."""
+    return jnp.take_along_axis(rows, index[..., None], axis=-2)
+
+
+def rotate(vectors: jax.Array, sin: jax.Array, cos: jax.Array) -> jax.Array:
+    """(..., 2) vectors rotated by the angles whose (...,) sine and cosine are given."""
+    x, y = vectors[..., 0], vectors[..., 1]
+    return jnp.stack([cos * x - sin * y, sin * x + cos * y], axis=-1)
+
+
+class RelationalMLP(nn.Module):
+    """A permutation-invariant MLP that reads relations: what each actuator moves, which way a thruster pushes
+    in the world, where each shape is relative to green and blue, and which action entry drives what.
+
+    1. Each shape row gains its position relative to the green and to the blue shapes' centroids (4 values),
+       then per-type encoders map shapes to width d.
+    2. Each thruster row is joined with its world-frame direction and anchor offset (its body-frame values
+       rotated by the body's angle) and its body's embedding; each joint row (both directions) with the
+       embeddings of its src and dst bodies; an MLP per type maps them to d.
+    3. Pooling keeps roles apart: a masked mean of the shapes of each role (neutral, green, blue, red), and one of
+       the actuators on each action entry (motor bindings 0-3 by the joint rows' binding, thruster bindings 0-1),
+       in action order, beside the means of all joints and all thrusters.
+    4. These 12 d values, the gravity and the blue-minus-green centroid offset go to `ActorCriticHeads`.
+
+    No slot index is read: the parameters fit every size and the output does not depend on slot order.
+
+    Attributes:
+        action_type: one of `constants.ACTION_TYPES`.
+        width: embedding width d.
+        encoder_depth: layers per shape and actuator encoder.
+        hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation is shared).
+    """
+
+    action_type: str = "multi-discrete"
+    width: int = 128
+    encoder_depth: int = 2
+    hidden_width: int = 128
+    hidden_depth: int = 5
+    activation: str = "tanh"
+
+    @nn.compact
+    def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
+        """obs: `EntityObservation` with leading batch shape ... -> (distribution, (...,) value)."""
+        p = obs.polygons.shape[-2]
+        mask = shape_mask(obs)
+        rows = jnp.concatenate([obs.polygons[..., :SHAPE_FEATURES], obs.circles[..., :SHAPE_FEATURES]], axis=-2)
+        position, role = rows[..., SHAPE_POSITION], rows[..., SHAPE_ROLE] > 0.5
+        centroid = lambda r: masked_mean(position, mask & role[..., r])  # noqa: E731
+        green, blue = centroid(ROLE_NAMES.index("green")), centroid(ROLE_NAMES.index("blue"))
+        relative = jnp.concatenate([position - green[..., None, :], position - blue[..., None, :]], axis=-1)
+        relative = jnp.where(mask[..., None], relative, 0.0)
+
+        def encode(x, row_mask, name):
+            return jnp.where(row_mask[..., None], MLP(self.width, self.encoder_depth, self.activation, name=name)(x), 0)
+
+        shapes = jnp.concatenate(
+            [
+                encode(jnp.concatenate([obs.polygons, relative[..., :p, :]], -1), obs.polygon_mask, "polygon_encoder"),
+                encode(jnp.concatenate([obs.circles, relative[..., p:, :]], -1), obs.circle_mask, "circle_encoder"),
+            ],
+            axis=-2,
+        )
+        body = gather_rows(rows, obs.thruster_body)
+        sin, cos = body[..., SHAPE_SIN], body[..., SHAPE_COS]
+        world = [
+            rotate(obs.thrusters[..., THRUSTER_DIRECTION], sin, cos),
+            rotate(obs.thrusters[..., THRUSTER_ANCHOR], sin, cos),
+        ]
+        thrusters = encode(
+            jnp.concatenate([obs.thrusters, *world, gather_rows(shapes, obs.thruster_body)], -1),
+            obs.thruster_mask,
+            "thruster_encoder",
+        )
+        ends = [gather_rows(shapes, obs.joint_src), gather_rows(shapes, obs.joint_dst)]
+        joints = encode(jnp.concatenate([obs.joints, *ends], -1), obs.joint_mask, "joint_encoder")
+
+        roles = [masked_mean(shapes, mask & role[..., r]) for r in range(len(ROLE_NAMES))]
+        motor = obs.joints[..., JOINT_BINDING] > 0.5
+        thrust = obs.thrusters[..., THRUSTER_BINDING] > 0.5
+        bindings = [masked_mean(joints, obs.joint_mask & motor[..., k]) for k in range(motor.shape[-1])]
+        bindings += [masked_mean(thrusters, obs.thruster_mask & thrust[..., k]) for k in range(thrust.shape[-1])]
+        pooled = [masked_mean(joints, obs.joint_mask), masked_mean(thrusters, obs.thruster_mask)]
+        x = jnp.concatenate([*roles, *bindings, *pooled, obs.gravity, blue - green], axis=-1)
+        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+
+
 class Gate(nn.Module):
     """GRU-style gated residual (GTrXL, Parisotto et al. 2019): mixes the stream x with the update y.
 
@@ -340,6 +438,8 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
         return FlatMLP(observation=env.observation, **heads)
     if model.name == "pi-mlp":
         return PermutationInvariantMLP(width=model.width, **heads)
+    if model.name == "rel-mlp":
+        return RelationalMLP(width=model.width, **heads)
     return EntityTransformer(width=model.width, num_layers=model.transformer_layers, num_heads=model.heads, **heads)
 
 

@@ -11,7 +11,18 @@ import pytest
 from engine import SIZES, BodyRef, Scene
 from kinetix_cli.env import pixels
 from kinetix_cli.env.level import Bindings, Level, make_level, stack_levels
-from kinetix_cli.env.observations import symbolic_entity, symbolic_flat
+from kinetix_cli.env.observations import (
+    JOINT_BINDING,
+    SHAPE_COS,
+    SHAPE_POSITION,
+    SHAPE_ROLE,
+    SHAPE_SIN,
+    THRUSTER_ANCHOR,
+    THRUSTER_BINDING,
+    THRUSTER_DIRECTION,
+    symbolic_entity,
+    symbolic_flat,
+)
 from kinetix_cli.env.pixels import pixel_observation
 
 FLOOR = BodyRef("arena", 0)
@@ -108,6 +119,24 @@ def test_entity_masks(chain):
     np.testing.assert_allclose(obs.polygons[[0, 4], 26], [1.0, 0.5])  # collision mode / 2: floor 2, box 1
     np.testing.assert_allclose(obs.circles[:, 18], 0.5)
     np.testing.assert_allclose(obs.gravity, (0.0, -0.981), atol=1e-6)
+
+
+def test_the_columns_models_read_by_name_hold_what_they_say(chain):
+    """The column constants that `rl.networks.RelationalMLP` reads: positions, roles and angles of shapes, motor
+    bindings of joint rows, bindings, anchors and body-frame directions of thruster rows."""
+    static, obs = chain
+    p = static.num_polygons
+    np.testing.assert_allclose(obs.polygons[4, SHAPE_POSITION], (1.0, 0.5), atol=1e-6)  # the box
+    np.testing.assert_allclose(obs.circles[1, SHAPE_POSITION], (1.5, 0.9), atol=1e-6)  # wheel B
+    np.testing.assert_array_equal(obs.circles[1, SHAPE_ROLE], (1, 0, 0, 0))  # neutral
+    np.testing.assert_allclose(obs.circles[1, [SHAPE_SIN, SHAPE_COS]], (0.0, 1.0), atol=1e-6)
+    np.testing.assert_array_equal(obs.joints[0, JOINT_BINDING], (0, 0, 0, 1))  # the motor on binding 3
+    np.testing.assert_array_equal(obs.joints[1, JOINT_BINDING], (0, 0, 0, 0))  # the fixed joint has no motor
+    thruster = obs.thrusters[0]
+    assert obs.thruster_body[0] == p + 1
+    np.testing.assert_array_equal(thruster[THRUSTER_BINDING], (0, 1))
+    np.testing.assert_allclose(thruster[THRUSTER_ANCHOR], (0.0, 0.1), atol=1e-6)  # (1.5, 1.0) from B's centre
+    np.testing.assert_allclose(thruster[THRUSTER_DIRECTION], (1.0, 0.0), atol=1e-6)  # angle 0: (cos, sin)
 
 
 def test_attention_channels(chain):

@@ -127,7 +127,7 @@ def test_default_parameter_counts():
         obs = observations("s", MODEL_OBSERVATIONS[model][0])
         net = make_network(ModelSettings(name=model), EnvSettings(observation=MODEL_OBSERVATIONS[model][0]))
         counts[model] = parameter_count(jax.eval_shape(net.init, jax.random.key(0), obs))
-    assert counts == {"flat-mlp": 170_643, "pi-mlp": 342_675, "transformer": 738_195}
+    assert counts == {"flat-mlp": 170_643, "pi-mlp": 342_675, "rel-mlp": 656_019, "transformer": 738_195}
 
 
 @functools.cache
@@ -144,7 +144,7 @@ def entity_model(model: str):
     return apply, params
 
 
-ENTITY_MODELS = ("pi-mlp", "transformer")
+ENTITY_MODELS = ("pi-mlp", "rel-mlp", "transformer")
 
 
 @pytest.mark.parametrize("model", ENTITY_MODELS)
@@ -209,13 +209,14 @@ def test_slot_order_does_not_change_the_output(model):
         np.testing.assert_allclose(got, want, rtol=1e-4, atol=1e-5)
 
 
-def test_transformer_params_work_across_sizes():
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_entity_model_params_work_across_sizes(model):
     """Params initialised on size s apply to size m observations, and their tree is the one m would build."""
-    apply, params = entity_model("transformer")
+    apply, params = entity_model(model)
     obs_m = observations("m", "symbolic-entity")
-    assert jax.tree.structure(params) == jax.tree.structure(
-        jax.eval_shape(tiny("transformer").init, jax.random.key(0), obs_m)
-    )
+    expected = jax.eval_shape(tiny(model).init, jax.random.key(0), obs_m)
+    assert jax.tree.structure(params) == jax.tree.structure(expected)
+    assert [a.shape for a in jax.tree.leaves(params)] == [b.shape for b in jax.tree.leaves(expected)]
     logits, value = apply(params, obs_m)
     assert logits.shape == (BATCH, 6, 3) and value.shape == (BATCH,)
     assert np.all(np.isfinite(value))
