@@ -9,6 +9,7 @@ from pathlib import Path
 import jax
 import pytest
 
+from helpers.processes import FAST_CODEGEN
 from helpers.runs import sfl_config, tiny_config
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
@@ -26,13 +27,6 @@ expensive passes; JAX's own switch for programs whose compile costs more than th
 tiny, so compile time dominates it: the tiny run compiles in 18 s instead of 30, a generated pool in 23 instead of
 43. The programs compute the same operations in IEEE float32 (no fast-math either way); the runs compared bit for
 bit are all compiled this way."""
-
-
-FAST_CODEGEN = "--xla_cpu_use_fusion_emitters=false"
-"""XLA flag of the suite (and every process it starts): XLA's CPU backend emits fused loops with its older
-elemental emitter instead of the MLIR fusion emitters, which compiles the suite's programs ~40% faster (the tiny
-SFL run's first update: 27 s -> 16 s with `FAST_COMPILE`) and runs them no slower. jax reads XLA_FLAGS when its
-backend starts, at the first array, after `pytest_configure`."""
 
 
 def pytest_configure(config):

@@ -255,6 +255,10 @@ class LevelSettings:
             of the run with the run's seed; episodes reset to a uniformly drawn pool level.
         pool_chunk: levels sampled and filtered per device batch while the pool is generated (as `kinetix
             generate --chunk`; the pool is the first `pool_size` levels kept from chunks 0, 1, ...).
+        refresh_every: source 'generated': every this many updates the pool is replaced by `pool_size` new
+            filtered levels (round r = update // refresh_every, its own seed), so a run sees an endless stream of
+            levels that no-op and random play do not solve, at the cost of one pool's generation per round; 0:
+            the pool is generated once.
     """
 
     source: LevelSource = "generated"
@@ -262,11 +266,17 @@ class LevelSettings:
     files: tuple[str, ...] = ()
     pool_size: int = 4096
     pool_chunk: int = 1024
+    refresh_every: int = 0
 
     def __post_init__(self):
         _check_types(self)
         _within(self, "pool_size", 1, 10**8)
         _within(self, "pool_chunk", 1, 2**20)
+        _within(self, "refresh_every", 0, 10**9)
+        if self.refresh_every:
+            _require(
+                self, "refresh_every", self.source == "generated", "is only used when levels.source is 'generated'"
+            )
         if self.source == "levelset":
             _require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
         else:

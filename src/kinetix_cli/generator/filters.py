@@ -152,8 +152,8 @@ def generate_chunks(
     """Chunks `indices` of the set, each as its kept levels (numpy, in sample order) and why the others were
     dropped. With a `mesh`, one chunk per device (`len(indices)` a multiple of the mesh's size), in every
     process of a multi-process run; every process returns every chunk."""
-    keys = jax.vmap(lambda i: jax.random.fold_in(jax.random.key(seed), i))(jnp.asarray(indices, jnp.uint32))
-    with using(mesh) if mesh is not None else contextlib.nullcontext():
+    with using(mesh) if mesh is not None else contextlib.nullcontext():  # keys too: never the caller's mesh
+        keys = jax.vmap(lambda i: jax.random.fold_in(jax.random.key(seed), i))(jnp.asarray(indices, jnp.uint32))
         keys = keys if mesh is None else replicate(keys, mesh)
         batch = sample_and_filter_chunks(SIZES[config.size], config.sampler, config.filters, config.chunk, keys)
     batch = jax.device_get(batch)

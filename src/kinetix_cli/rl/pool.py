@@ -24,10 +24,18 @@ def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
     return FreshLevels.for_size(SIZES[config.env.size], config.env.size)
 
 
-def level_pool(config: ExperimentConfig, mesh: Mesh | None = None) -> Level | None:
+def pool_seed(run_seed: int, round: int) -> int:
+    """The generation seed of a generated pool's `round` (`levels.refresh_every`): the run's seed for round 0,
+    then a seed of its own derived from (run seed, round)."""
+    if round == 0:
+        return run_seed
+    return int(np.random.SeedSequence([run_seed, round]).generate_state(1)[0] & 0x7FFFFFFF)
+
+
+def level_pool(config: ExperimentConfig, mesh: Mesh | None = None, round: int = 0) -> Level | None:
     """The training levels as one batch of device arrays: level files (each with its own engine constants), a
-    level set, or `levels.pool_size` generated levels (filtered, seeded by `run.seed`; generated on the `mesh`'s
-    devices when given, one chunk per device: the same levels on any mesh); None for source 'fresh'.
+    level set, or `levels.pool_size` generated levels (filtered, seeded by `pool_seed(run.seed, round)`; generated
+    on the `mesh`'s devices when given, one chunk per device: the same levels on any mesh); None for source 'fresh'.
 
     A multi-process run generates the pool in every process on its local devices (a local mesh): each process
     gets the whole pool with the program `kinetix generate` runs on one device, and no array of the run's global
@@ -42,7 +50,7 @@ def level_pool(config: ExperimentConfig, mesh: Mesh | None = None) -> Level | No
         if levelset.manifest["size"] != size:
             raise UserError(f"{settings.levelset}: holds size-{levelset.manifest['size']} levels, env.size is {size}")
         return to_device(levelset.levels)
-    chunk = chunk_source(make_config(size, settings.pool_chunk), config.run.seed, mesh)
+    chunk = chunk_source(make_config(size, settings.pool_chunk), pool_seed(config.run.seed, round), mesh)
     chunks, kept, index = [], 0, 0
     while kept < settings.pool_size:
         levels, _ = chunk(index)

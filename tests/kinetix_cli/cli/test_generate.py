@@ -9,7 +9,7 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from helpers.processes import FORCE_2, process_env, processes, run_ok, start
+from helpers.processes import FORCE_2, exact_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
 from kinetix_cli.levels.files import load_level
 
@@ -56,18 +56,27 @@ def test_generate_info_show_export(tmp_path, generated):
     assert spec.size == "s" and spec.description
 
 
+@pytest.fixture(scope="module")
+def generated_exact(tmp_path_factory):
+    """The set written by `kinetix generate` in a new process on one device, compiled as outside the suite
+    (`exact_env`): what 2 devices and 2 processes must write byte for byte."""
+    out = tmp_path_factory.mktemp("generate-exact") / "set"
+    run_ok([start([*GENERATE, "--out", out], exact_env())])
+    return out
+
+
 @pytest.mark.slow  # ~70 s: both processes compile the chunk program; multi-process training stays in make test
-def test_two_processes_write_the_set_of_one_device(tmp_path, generated):
+def test_two_processes_write_the_set_of_one_device(tmp_path, generated_exact):
     # each device computes whole chunks with the one-device program, so the set is the same byte for byte; shards
     # 0 and 2 are written by process 0, shard 1 by process 1, the manifest by process 0
-    run_ok(processes([*GENERATE, "--out", tmp_path / "two-processes"], process_env()))
-    assert files_of(tmp_path / "two-processes") == files_of(generated)
+    run_ok(processes([*GENERATE, "--out", tmp_path / "two-processes"], exact_env()))
+    assert files_of(tmp_path / "two-processes") == files_of(generated_exact)
 
 
 @pytest.mark.slow
-def test_two_devices_write_the_set_of_one_device(tmp_path, generated):
-    run_ok([start([*GENERATE, "--out", tmp_path / "two-devices"], process_env(), XLA_FLAGS=FORCE_2)])
-    assert files_of(tmp_path / "two-devices") == files_of(generated)
+def test_two_devices_write_the_set_of_one_device(tmp_path, generated_exact):
+    run_ok([start([*GENERATE, "--out", tmp_path / "two-devices"], exact_env(), XLA_FLAGS=FORCE_2)])
+    assert files_of(tmp_path / "two-devices") == files_of(generated_exact)
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,51 @@
+"""A generated pool refreshed every K updates (`levels.refresh_every`): a filtered stream of new levels, one pool
+per round, the same in a resumed run."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import jax
+import numpy as np
+import pytest
+
+from helpers.runs import tiny_config
+from kinetix_cli.config import ConfigError
+from kinetix_cli.rl.pool import level_pool, pool_seed
+from kinetix_cli.rl.train import train
+
+pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_generate: one worker compiles the chunk program
+
+REFRESHED = [
+    "levels.source=generated",
+    "levels.files=[]",
+    "levels.pool_size=2",
+    "levels.pool_chunk=32",
+    "levels.refresh_every=2",
+    "ppo.total_timesteps=256",  # 4 updates: rounds 0, 0, 1, 1
+    "run.eval_every=0",
+]
+
+
+def test_a_refreshed_pool_trains_on_new_levels_each_round_and_resumes_bit_identically(tmp_path):
+    config = tiny_config(*REFRESHED)
+    assert pool_seed(config.run.seed, 0) == config.run.seed != pool_seed(config.run.seed, 1)
+    first, second = level_pool(config), level_pool(config, round=1)
+    assert jax.tree.structure(first) == jax.tree.structure(second)
+    assert not np.array_equal(first.physics.bodies.position, second.physics.bodies.position)
+
+    whole = train(config, tmp_path / "whole")
+    records = [json.loads(line) for line in (tmp_path / "whole" / "metrics.jsonl").read_text().splitlines()]
+    assert [r["pool_round"] for r in records] == [0, 0, 1, 1]
+
+    cut = tmp_path / "cut"  # killed before its last checkpoint: the resumed run makes round 1's pool again
+    shutil.copytree(tmp_path / "whole", cut)
+    shutil.rmtree(cut / "checkpoints" / "4")
+    resumed = train(config, cut, resume=True)
+    jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
+
+
+def test_refresh_needs_a_generated_pool():
+    with pytest.raises(ConfigError, match="levels.refresh_every: is only used when levels.source is 'generated'"):
+        tiny_config("levels.refresh_every=2")
