@@ -15,7 +15,8 @@ kinetix=${KINETIX:-.venv/bin/kinetix}
 python=${PYTHON:-.venv/bin/python}
 victim=${VICTIM:-1}
 mkdir -p "$out"
-# 8 updates (of 2,048 steps; PLR's of 8,192), checkpoints every 2; no evaluation (it does not change training)
+# 8 updates (of 2,048 steps; PLR's of 8,192: its variant sets its own total, after these), checkpoints every 2; no
+# evaluation (it does not change training)
 common=(--set ppo.total_timesteps=16384 --set run.checkpoint_every=2 --set run.eval_every=0)
 [ -f "$out/set/manifest.json" ] || "$kinetix" generate --size s --count 256 --seed 0 --out "$out/set" >/dev/null
 
@@ -43,9 +44,9 @@ for variant in ${VARIANTS:-pool levelset sfl plr}; do
   read -r -a args <<<"$(variant_args "$variant")"
   whole=$out/$variant-whole cut=$out/$variant-killed
   rm -rf "$whole" "$cut"
-  run_two "$whole" "${args[@]}" "${common[@]}"
+  run_two "$whole" "${common[@]}" "${args[@]}"
   wait
-  run_two "$cut" "${args[@]}" "${common[@]}"
+  run_two "$cut" "${common[@]}" "${args[@]}"
   pids=($(jobs -p))
   until [ -f "$cut/checkpoints/4/kinetix-checksums.json" ]; do
     if [ -z "$(jobs -rp)" ]; then echo "$variant: the run ended without checkpoint 4" >&2; exit 1; fi
@@ -55,7 +56,7 @@ for variant in ${VARIANTS:-pool levelset sfl plr}; do
   wait || true
   if [ -d "$cut/checkpoints/8" ]; then echo "$variant: the run ended before the kill; rerun" >&2; status=1; continue; fi
   echo "$variant: process $victim killed at checkpoint $(ls "$cut/checkpoints" | sort -n | tail -1); the other: $(tail -n 1 "$cut.log$((1 - victim))")"
-  run_two "$cut" "${args[@]}" "${common[@]}" --resume
+  run_two "$cut" "${common[@]}" "${args[@]}" --resume
   wait
   if $python - "$whole" "$cut" "$variant" <<'PY'; then :; else status=1; fi
 import json, sys

@@ -161,12 +161,12 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     except OSError as exc:
         raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
     kept = start or None  # the last complete checkpoint
-    every, pool_round = config.levels.refresh_every, 0
+    pool_every, pool_round = config.levels.refresh_every, 0
     with log, writing(manager):
         for u in range(start, settings.num_updates):
             tic = time.perf_counter()
-            if every and u // every != pool_round:  # a new generated pool (a resumed run makes its round's)
-                pool_round = u // every
+            if pool_every and u // pool_every != pool_round:  # a new generated pool (a resumed run: its round's)
+                pool_round = u // pool_every
                 pool = replicate(level_pool(config, make_mesh(devices, local_only=True), pool_round), mesh)
             if sfl and u % curriculum.refresh_every == 0:  # the curriculum's buffer, scored with the current policy
                 scored = refresh(runner.params, env_params, pool, _scoring_key(key, u), buffer=runner.buffer, update=u)
@@ -177,7 +177,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
             record |= _curriculum_metrics(runner, config, steps)
-            record |= {"pool_round": pool_round} if every else {}
+            record |= {"pool_round": pool_round} if pool_every else {}
             if not all(math.isfinite(v) for v in metrics.values()):
                 bad = sorted(k for k, v in metrics.items() if not math.isfinite(v))
                 raise UserError(

@@ -24,6 +24,7 @@ REFRESHED = [
     "levels.pool_chunk=32",
     "levels.refresh_every=2",
     "ppo.total_timesteps=256",  # 4 updates: rounds 0, 0, 1, 1
+    "run.checkpoint_every=1",  # not refresh_every: the two are counted apart
     "run.eval_every=0",
 ]
 
@@ -39,9 +40,10 @@ def test_a_refreshed_pool_trains_on_new_levels_each_round_and_resumes_bit_identi
     records = [json.loads(line) for line in (tmp_path / "whole" / "metrics.jsonl").read_text().splitlines()]
     assert [r["pool_round"] for r in records] == [0, 0, 1, 1]
 
-    cut = tmp_path / "cut"  # killed before its last checkpoint: the resumed run makes round 1's pool again
+    cut = tmp_path / "cut"  # killed after checkpoint 2: the resumed run makes round 1's pool again
     shutil.copytree(tmp_path / "whole", cut)
-    shutil.rmtree(cut / "checkpoints" / "4")
+    for update in ("3", "4"):
+        shutil.rmtree(cut / "checkpoints" / update)
     resumed = train(config, cut, resume=True)
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
 
