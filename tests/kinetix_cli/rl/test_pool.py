@@ -15,8 +15,6 @@ from kinetix_cli.config import ConfigError
 from kinetix_cli.rl.pool import level_pool, pool_seed
 from kinetix_cli.rl.train import train
 
-pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_generate: one worker compiles the chunk program
-
 REFRESHED = [
     "levels.source=generated",
     "levels.files=[]",
@@ -29,6 +27,7 @@ REFRESHED = [
 ]
 
 
+@pytest.mark.slow  # ~75 s in make test's busiest worker: three pool generations and two runs
 def test_a_refreshed_pool_trains_on_new_levels_each_round_and_resumes_bit_identically(tmp_path):
     config = tiny_config(*REFRESHED)
     assert pool_seed(config.run.seed, 0) == config.run.seed != pool_seed(config.run.seed, 1)
