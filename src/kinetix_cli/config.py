@@ -110,6 +110,8 @@ class ModelSettings:
         transformer_layers: transformer blocks ('transformer' only).
         heads: attention heads per block ('transformer' only): a multiple of 4 (each of the 4 attention-mask
             channels drives heads / 4 of them); the head size is width / heads (128 / 8 = 16).
+        mask_unused_actions: the action entries of bindings that no actuator of the level uses stay "off" and
+            count in neither log-probability nor entropy (entity models only; off: the reference's policy).
     """
 
     name: ModelName = "transformer"
@@ -117,9 +119,16 @@ class ModelSettings:
     actor_critic_layers: int = 5
     transformer_layers: int = 2
     heads: int = 8
+    mask_unused_actions: bool = False
 
     def __post_init__(self):
         _check_types(self)
+        _require(
+            self,
+            "mask_unused_actions",
+            not (self.mask_unused_actions and self.name == "flat-mlp"),
+            "needs an entity model (flat-mlp's input does not name the bindings)",
+        )
         for name in ("width", "actor_critic_layers", "transformer_layers", "heads"):
             _within(self, name, 1, 65536)
         if self.name == "transformer":

@@ -56,6 +56,12 @@ def action_space(kind: str) -> ActionSpace:
     raise ValueError(f"unknown action type {kind!r}; choose one of {', '.join(ACTION_TYPES)}")
 
 
+def discrete_choice_bindings() -> tuple[int, ...]:
+    """The binding (0-5: motors then thrusters) each ``discrete`` choice drives, -1 for the no-op (choice 0)."""
+    m, t = NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS
+    return (-1, *(c // 2 for c in range(2 * m)), *range(m, m + t))
+
+
 def binding_values(kind: str, action: jax.Array) -> jax.Array:
     """(6,) float32: motor binding values in [-1, 1] then thruster binding values in [0, 1]."""
     m, t = NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS

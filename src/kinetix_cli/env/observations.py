@@ -316,3 +316,12 @@ def symbolic_entity(static: Static, physics, bindings: Bindings) -> EntityObserv
         attention_mask=attention_masks(static, physics, mask),
         gravity=(physics.gravity / 10.0).astype(jnp.float32),
     )
+
+
+def used_bindings(obs: EntityObservation) -> jax.Array:
+    """(..., 6) bool: which action bindings move something in the scene, motor bindings 0-3 (a non-auto motor of an
+    active joint on that binding) then thruster bindings 0-1 (an active thruster on it); any leading batch shape.
+    The policies of `rl.networks` fix the action entries of the others at "off" (`model.mask_unused_actions`)."""
+    motors = jnp.any((obs.joints[..., JOINT_BINDING] > 0.5) & obs.joint_mask[..., None], axis=-2)
+    thrusters = jnp.any((obs.thrusters[..., THRUSTER_BINDING] > 0.5) & obs.thruster_mask[..., None], axis=-2)
+    return jnp.concatenate([motors, thrusters], axis=-1)

@@ -75,11 +75,15 @@ class MultiCategorical:
     logits: jax.Array
 
     @classmethod
-    def from_flat(cls, flat: jax.Array, nvec: tuple[int, ...]) -> MultiCategorical:
-        """From (..., E * K) raw logits: reshaped to (..., E, K), padding entries set to -inf."""
+    def from_flat(cls, flat: jax.Array, nvec: tuple[int, ...], used: jax.Array | None = None) -> MultiCategorical:
+        """From (..., E * K) raw logits: reshaped to (..., E, K), padding entries set to -inf. With `used`
+        (..., E) bool, an entry that is not used has only choice 0: it always samples 0 and adds nothing to the
+        log-probability or the entropy."""
         k = max(nvec)
         logits = flat.reshape(*flat.shape[:-1], len(nvec), k)
         valid = jnp.arange(k)[None, :] < jnp.asarray(nvec)[:, None]
+        if used is not None:
+            valid = valid & (used[..., None] | (jnp.arange(k) == 0))
         return cls(jnp.where(valid, logits, -jnp.inf))
 
     def sample(self, key: jax.Array) -> jax.Array:
@@ -106,10 +110,16 @@ class DiagGaussian:
     Attributes:
         mean: (..., D) float32.
         log_std: (..., D) float32 log standard deviation (broadcast to `mean`'s shape).
+        used: (..., D) bool or None (all used): entries that are not used still sample but add nothing to the
+            log-density or the entropy.
     """
 
     mean: jax.Array
     log_std: jax.Array
+    used: jax.Array | None = None
+
+    def _sum(self, terms: jax.Array) -> jax.Array:
+        return jnp.sum(terms if self.used is None else jnp.where(self.used, terms, 0.0), axis=-1)
 
     def sample(self, key: jax.Array) -> jax.Array:
         """(..., D) float32 draw with `key`."""
@@ -119,12 +129,12 @@ class DiagGaussian:
     def log_prob(self, action: jax.Array) -> jax.Array:
         """(...,) log-density of (..., D) actions, summed over entries."""
         z = (action - self.mean) * jnp.exp(-self.log_std)
-        return jnp.sum(-0.5 * z**2 - self.log_std - 0.5 * LOG_2PI, axis=-1)
+        return self._sum(-0.5 * z**2 - self.log_std - 0.5 * LOG_2PI)
 
     def entropy(self) -> jax.Array:
         """(...,) differential entropy [nats], summed over entries."""
         log_std = jnp.broadcast_to(self.log_std, self.mean.shape)
-        return jnp.sum(0.5 + 0.5 * LOG_2PI + log_std, axis=-1)
+        return self._sum(0.5 + 0.5 * LOG_2PI + log_std)
 
     def mode(self) -> jax.Array:
         """(..., D) the mean."""

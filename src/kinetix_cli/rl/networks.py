@@ -33,7 +33,7 @@ import numpy as np
 from engine import Scene
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings
 from kinetix_cli.constants import MODEL_OBSERVATIONS, NUM_ATTENTION_CHANNELS, ROLE_NAMES
-from kinetix_cli.env.actions import action_space
+from kinetix_cli.env.actions import action_space, discrete_choice_bindings
 from kinetix_cli.env.episode import Policy
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import empty_bindings, make_level
@@ -48,6 +48,7 @@ from kinetix_cli.env.observations import (
     THRUSTER_BINDING,
     THRUSTER_DIRECTION,
     EntityObservation,
+    used_bindings,
 )
 from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
 
@@ -98,18 +99,28 @@ class MLP(nn.Module):
         return x
 
 
-def action_distribution(action_type: str, head: jax.Array, log_std: jax.Array | None = None) -> Distribution:
+def action_distribution(
+    action_type: str, head: jax.Array, log_std: jax.Array | None = None, used: jax.Array | None = None
+) -> Distribution:
     """The distribution of `action_type` from the actor head's output.
 
     head: (..., H) with H = 6 * 3 (multi-discrete: per-entry logits padded to 3 choices), 11 (discrete) or 6
         (continuous: the mean). log_std: (6,) continuous log standard deviation (state-independent).
+    used: (..., 6) bool bindings that move something (`env.observations.used_bindings`), or None (all). The
+        others are masked: a multi-discrete entry stays "off", a discrete choice that drives one is impossible, a
+        continuous entry adds nothing to log-density and entropy. Sampled actions then drive the same scene,
+        while the policy's log-probability and entropy only count the choices that matter.
     """
     space = action_space(action_type)
     if action_type == "multi-discrete":
-        return MultiCategorical.from_flat(head, space.nvec)
+        return MultiCategorical.from_flat(head, space.nvec, used)
     if action_type == "discrete":
+        if used is not None:
+            bindings = jnp.asarray(discrete_choice_bindings())
+            valid = (bindings < 0) | jnp.take(used, jnp.maximum(bindings, 0), axis=-1)
+            head = jnp.where(valid, head, -jnp.inf)
         return Categorical(head)
-    return DiagGaussian(head, jnp.broadcast_to(log_std, head.shape))
+    return DiagGaussian(head, jnp.broadcast_to(log_std, head.shape), used)
 
 
 def head_size(action_type: str) -> int:
@@ -137,8 +148,8 @@ class ActorCriticHeads(nn.Module):
     activation: str = "tanh"
 
     @nn.compact
-    def __call__(self, x: jax.Array) -> tuple[Distribution, jax.Array]:
-        """(..., D) embedding -> (distribution, (...,) value)."""
+    def __call__(self, x: jax.Array, used: jax.Array | None = None) -> tuple[Distribution, jax.Array]:
+        """(..., D) embedding -> (distribution, (...,) value); `used` masks bindings (`action_distribution`)."""
         actor = MLP(self.hidden_width, self.hidden_depth, self.activation, name="actor")(x)
         head = nn.Dense(head_size(self.action_type), kernel_init=orthogonal(0.01), name="actor_head")(actor)
         log_std = None
@@ -146,7 +157,7 @@ class ActorCriticHeads(nn.Module):
             log_std = self.param("log_std", nn.initializers.zeros, (head.shape[-1],))
         critic = MLP(self.hidden_width, self.hidden_depth, self.activation, name="critic")(x)
         value = nn.Dense(1, kernel_init=orthogonal(1.0), name="critic_head")(critic)[..., 0]
-        return action_distribution(self.action_type, head, log_std), value
+        return action_distribution(self.action_type, head, log_std, used), value
 
 
 class FlatMLP(nn.Module):
@@ -218,6 +229,7 @@ class PermutationInvariantMLP(nn.Module):
         width: entity embedding width d.
         encoder_depth: layers per entity encoder.
         hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation is shared).
+        mask_actions: fix the action entries of bindings that move nothing at "off" (`action_distribution`).
     """
 
     action_type: str = "multi-discrete"
@@ -226,6 +238,7 @@ class PermutationInvariantMLP(nn.Module):
     hidden_width: int = 128
     hidden_depth: int = 5
     activation: str = "tanh"
+    mask_actions: bool = False
 
     @nn.compact
     def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
@@ -239,7 +252,8 @@ class PermutationInvariantMLP(nn.Module):
             obs.gravity,
         ]
         x = jnp.concatenate(pooled, axis=-1)
-        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+        heads = ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)
+        return heads(x, used_bindings(obs) if self.mask_actions else None)
 
 
 def gather_rows(rows: jax.Array, index: jax.Array) -> jax.Array:
@@ -273,6 +287,7 @@ class RelationalMLP(nn.Module):
         action_type: one of `constants.ACTION_TYPES`.
         width: embedding width d.
         encoder_depth: layers per shape and actuator encoder.
+        mask_actions: fix the action entries of bindings that move nothing at "off" (`action_distribution`).
         hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation is shared).
     """
 
@@ -282,6 +297,7 @@ class RelationalMLP(nn.Module):
     hidden_width: int = 128
     hidden_depth: int = 5
     activation: str = "tanh"
+    mask_actions: bool = False
 
     @nn.compact
     def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
@@ -326,7 +342,8 @@ class RelationalMLP(nn.Module):
         bindings += [masked_mean(thrusters, obs.thruster_mask & thrust[..., k]) for k in range(thrust.shape[-1])]
         pooled = [masked_mean(joints, obs.joint_mask), masked_mean(thrusters, obs.thruster_mask)]
         x = jnp.concatenate([*roles, *bindings, *pooled, obs.gravity, blue - green], axis=-1)
-        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+        heads = ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)
+        return heads(x, used_bindings(obs) if self.mask_actions else None)
 
 
 class Gate(nn.Module):
@@ -389,6 +406,7 @@ class EntityTransformer(nn.Module):
         num_layers: transformer layers.
         num_heads: attention heads, a multiple of 4.
         encoder_depth: layers per entity encoder.
+        mask_actions: fix the action entries of bindings that move nothing at "off" (`action_distribution`).
         gate_bias: see `Gate`.
         hidden_width, hidden_depth, activation: see `ActorCriticHeads` (the activation also ends the encoders).
     """
@@ -402,6 +420,7 @@ class EntityTransformer(nn.Module):
     hidden_width: int = 128
     hidden_depth: int = 5
     activation: str = "tanh"
+    mask_actions: bool = False
 
     @nn.compact
     def __call__(self, obs: EntityObservation) -> tuple[Distribution, jax.Array]:
@@ -424,7 +443,8 @@ class EntityTransformer(nn.Module):
             h = TransformerLayer(self.num_heads, self.gate_bias, name=f"layer_{i}")(h, heads)
             h = jnp.where(mask[..., None], h, 0.0)
         x = jnp.concatenate([masked_mean(h, mask), obs.gravity], axis=-1)
-        return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
+        heads = ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)
+        return heads(x, used_bindings(obs) if self.mask_actions else None)
 
 
 def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
@@ -436,6 +456,7 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     heads = {"action_type": env.action, "hidden_width": model.width, "hidden_depth": model.actor_critic_layers}
     if model.name == "flat-mlp":
         return FlatMLP(observation=env.observation, **heads)
+    heads["mask_actions"] = model.mask_unused_actions
     if model.name == "pi-mlp":
         return PermutationInvariantMLP(width=model.width, **heads)
     if model.name == "rel-mlp":

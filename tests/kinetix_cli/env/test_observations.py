@@ -22,6 +22,7 @@ from kinetix_cli.env.observations import (
     THRUSTER_DIRECTION,
     symbolic_entity,
     symbolic_flat,
+    used_bindings,
 )
 from kinetix_cli.env.pixels import pixel_observation
 
@@ -119,6 +120,16 @@ def test_entity_masks(chain):
     np.testing.assert_allclose(obs.polygons[[0, 4], 26], [1.0, 0.5])  # collision mode / 2: floor 2, box 1
     np.testing.assert_allclose(obs.circles[:, 18], 0.5)
     np.testing.assert_allclose(obs.gravity, (0.0, -0.981), atol=1e-6)
+
+
+def test_used_bindings(chain):
+    """The chain's one motor is on binding 3 and its one thruster on thruster binding 1; the fixed joint drives
+    nothing. Batched observations answer per scene."""
+    _, obs = chain
+    assert used_bindings(obs).tolist() == [False, False, False, True, False, True]
+    two = jax.tree.map(lambda x: np.stack([x, x]), obs)
+    two.thruster_mask[1] = False
+    assert used_bindings(two).tolist() == [[False, False, False, True, False, True], [False] * 3 + [True, False, False]]
 
 
 def test_the_columns_models_read_by_name_hold_what_they_say(chain):

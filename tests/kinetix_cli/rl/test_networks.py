@@ -17,8 +17,9 @@ from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, Model
 from kinetix_cli.constants import ACTION_TYPES, MODEL_NAMES, MODEL_OBSERVATIONS, OBSERVATION_TYPES
 from kinetix_cli.env.environment import KinetixEnv
 from kinetix_cli.env.level import index_level
+from kinetix_cli.env.observations import used_bindings
 from kinetix_cli.rl.distributions import Categorical, DiagGaussian, MultiCategorical
-from kinetix_cli.rl.networks import make_network, parameter_count
+from kinetix_cli.rl.networks import action_distribution, make_network, parameter_count
 
 NVEC = (3, 3, 3, 3, 2, 2)
 BATCH = 3
@@ -84,6 +85,44 @@ def test_diag_gaussian_by_hand():
     np.testing.assert_array_equal(dist.mode(), [0.0, 1.0])
     samples = jax.vmap(dist.sample)(jax.random.split(jax.random.key(0), 4000))
     np.testing.assert_allclose(samples.std(0), [1.0, 2.0], rtol=0.05)
+
+
+def test_unused_bindings_are_masked_in_every_action_type():
+    """With `used`, an unused binding's entry stays "off" and adds nothing to log-probability or entropy, so
+    neither depends on its logits; used entries are as before."""
+    used = jnp.array([True, False, False, False, False, True])
+    head = jax.random.normal(jax.random.key(0), (18,))
+    other = head.at[3:15].set(5.0)  # logits of the unused entries 1..4 only
+    action = jnp.array([2, 0, 0, 0, 0, 1], jnp.int32)
+    masked, plain = action_distribution("multi-discrete", head, used=used), action_distribution("multi-discrete", head)
+    moved = action_distribution("multi-discrete", other, used=used)
+    np.testing.assert_allclose(masked.log_prob(action), moved.log_prob(action), rtol=1e-6)
+    np.testing.assert_allclose(masked.entropy(), moved.entropy(), rtol=1e-6)
+    kept = jnp.array([0, 5])
+    np.testing.assert_allclose(masked.entropy(), MultiCategorical(plain.logits[kept]).entropy(), rtol=1e-6)
+    samples = jax.vmap(masked.sample)(jax.random.split(jax.random.key(1), 200))
+    assert not np.asarray(samples[:, 1:5]).any() and np.asarray(samples[:, 0]).any()
+
+    discrete = action_distribution("discrete", jnp.zeros(11), used=used)  # no-op, motor 0 both ways, thruster 1
+    np.testing.assert_allclose(discrete.entropy(), math.log(4), rtol=1e-6)
+    assert set(np.asarray(jax.vmap(discrete.sample)(jax.random.split(jax.random.key(2), 400))).tolist()) == {
+        0,
+        1,
+        2,
+        10,
+    }
+
+    gaussian = action_distribution("continuous", jnp.zeros(6), jnp.zeros(6), used=used)
+    full = action_distribution("continuous", jnp.zeros(6), jnp.zeros(6))
+    np.testing.assert_allclose(gaussian.entropy(), full.entropy() / 3, rtol=1e-6)
+    half_log_2pi = 0.5 * math.log(2 * math.pi)  # each zero-mean, unit entry at 0 has log-density -half_log_2pi
+    expected = full.log_prob(jnp.array([0.5, 0, 0, 0, 0, 0.0])) + 4 * half_log_2pi
+    np.testing.assert_allclose(gaussian.log_prob(jnp.array([0.5, 9, 9, 9, 9, 0.0])), expected, rtol=1e-6)
+
+
+def test_masking_needs_an_entity_model():
+    with pytest.raises(ConfigError, match="model.mask_unused_actions: needs an entity model"):
+        ModelSettings(name="flat-mlp", mask_unused_actions=True)
 
 
 # --- models ----------------------------------------------------------------------------------------------
@@ -153,6 +192,27 @@ def test_initial_policy_is_near_uniform(model):
     logits, value = apply(params, observations("s", "symbolic-entity"))
     assert np.all(np.isfinite(value))
     np.testing.assert_allclose(MultiCategorical(logits).entropy(), 4 * math.log(3) + 2 * math.log(2), atol=0.01)
+
+
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_a_masking_model_leaves_the_bindings_a_level_does_not_use_off(model):
+    """On real observations, a model with `mask_unused_actions` samples "off" on every binding that
+    `used_bindings` says moves nothing, and still samples the others."""
+    obs = observations("s", "symbolic-entity")
+    net = make_network(
+        ModelSettings(name=model, width=16, actor_critic_layers=2, heads=4, mask_unused_actions=True),
+        EnvSettings(size="s"),
+    )
+
+    @jax.jit
+    def sample(keys):
+        params = net.init(jax.random.key(0), obs)
+        return jax.vmap(lambda k: net.apply(params, obs)[0].sample(k))(keys)
+
+    actions = np.asarray(sample(jax.random.split(jax.random.key(1), 64)))
+    used = np.asarray(used_bindings(obs))
+    assert used.any() and not used.all()  # the random levels use some bindings and not others
+    assert not actions[:, ~used].any() and actions[:, used].any()
 
 
 @pytest.mark.parametrize("model", ENTITY_MODELS)
