@@ -32,7 +32,7 @@ from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, read_format
 from kinetix_cli.parallel import is_primary, sync
-from kinetix_cli.rl.curricula.buffer import LevelBuffer
+from kinetix_cli.rl.buffer import LevelBuffer
 from kinetix_cli.rl.networks import params_fit
 from kinetix_cli.rl.ppo import Runner
 

@@ -9,8 +9,8 @@ pool of the same shape does not recompile either.
 Episodes that end restart from a level drawn uniformly from the update's pool by the environment's own auto-reset
 (`KinetixEnv.step`). The pool is `levels` (a fixed pool on the device: generated at the start, a level set, level
 files) or, with the static `fresh` source (and `levels` None), a batch of `num_envs` new levels sampled at the
-start of every update inside the jit (`kinetix_cli.generator.fresh`). A curriculum (`rl.curricula`) puts a share
-of its buffer's levels into every update's pool.
+start of every update inside the jit (`kinetix_cli.generator.fresh`). Each curriculum (`rl.curricula`) has an
+update of its own built from the same parts (`train_on`, or `collect`, `gae` and `learn`).
 
 Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
 transition bootstraps from the value of the final observation (`info["final_observation"]`, before the reset),
@@ -31,14 +31,12 @@ import jax.numpy as jnp
 import optax
 from flax import struct
 
-from kinetix_cli.config import CurriculumSettings, PPOSettings
+from kinetix_cli.config import PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
-from kinetix_cli.env.level import Level, draw_levels, index_level
+from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
-from kinetix_cli.generator.mutate import mutate_level
 from kinetix_cli.parallel import batch_sharded, replicated
-from kinetix_cli.rl.curricula import plr
-from kinetix_cli.rl.curricula.buffer import LevelBuffer, draw_from_buffer, empty_buffer
+from kinetix_cli.rl.buffer import LevelBuffer, empty_buffer
 
 
 @struct.dataclass
@@ -68,7 +66,7 @@ class Runner:
         episode_return: (num_envs,) return of the running episodes.
         key: PRNG key.
         update: () int32 updates done.
-        buffer: the curriculum's level buffer (`rl.curricula.buffer.LevelBuffer`), or None (DR).
+        buffer: the curriculum's level buffer (`rl.buffer.LevelBuffer`), or None (DR).
     """
 
     params: Any
@@ -141,36 +139,23 @@ def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings:
     return total, {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
 
 
-def update_levels(
-    runner: Runner, env: KinetixEnv, levels: Level | None, fresh: FreshLevels | None, buffer_share: float, count: int
-) -> tuple[Runner, Level]:
-    """The levels this update's episodes restart from, and the runner with its key advanced.
+def first_reset(runner: Runner, env: KinetixEnv, pool: Level, key: jax.Array) -> Runner:
+    """With a fresh level source `init_runner` starts every environment on an empty arena: at update 0, and only
+    then, they all reset to levels drawn from the update's `pool` (later updates skip the reset)."""
 
-    From the source: the pool `levels` as it is, or `count` fresh levels from `fresh`. With `buffer_share` > 0 (a
-    curriculum), round(buffer_share * count) levels drawn from the runner's buffer and the rest from the source,
-    `count` in all. Before the first update with a fresh source, every environment is also reset to one of them
-    (`init_runner` started them on an empty arena)."""
-    from_buffer = round(buffer_share * count)
-    if fresh is None and not from_buffer:
-        return runner, levels  # a fixed pool, uniformly: the key stream of runs before curricula, unchanged
+    def reset(runner: Runner) -> Runner:
+        count = runner.episode_return.shape[0]
+        obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(pool, key, count)))
+        return runner.replace(obs=obs, env_state=env_state)
+
+    return jax.lax.cond(runner.update == 0, reset, lambda r: r, runner)
+
+
+def update_keys(runner: Runner) -> tuple[Runner, jax.Array, jax.Array, jax.Array]:
+    """The runner with its key advanced, and the update's keys for the source's levels, the curriculum's buffer
+    draw and the first reset (one stream shared by `ppo_update` and SFL's update)."""
     key, k_source, k_buffer, k_first = jax.random.split(runner.key, 4)
-    if fresh is not None:
-        pool = fresh(k_source, count - from_buffer)
-    else:
-        pool = draw_levels(levels, k_source, count - from_buffer)
-    if from_buffer:
-        buffered = draw_from_buffer(runner.buffer, k_buffer, from_buffer)
-        pool = jax.tree.map(lambda a, b: jnp.concatenate([a, b]), buffered, pool)
-    pool = batch_sharded(pool)
-    runner = runner.replace(key=key)
-    if fresh is not None:
-        obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(pool, k_first, count)))
-        first = runner.update == 0
-        runner = runner.replace(
-            obs=jax.tree.map(lambda a, b: jnp.where(first, a, b), obs, runner.obs),
-            env_state=jax.tree.map(lambda a, b: jnp.where(first, a, b), env_state, runner.env_state),
-        )
-    return runner, pool
+    return runner.replace(key=key), k_source, k_buffer, k_first
 
 
 @functools.partial(jax.jit, static_argnums=(0, 1, 2), static_argnames=("fresh", "buffer_size"))
@@ -298,25 +283,13 @@ def rollout_metrics(transitions: Transition, finished_return: jax.Array, losses:
     }
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "buffer_share"))
-def ppo_update(
-    runner: Runner,
-    env_params: EnvParams,
-    levels: Level | None,
-    *,
-    env: KinetixEnv,
-    network: nn.Module,
-    settings: PPOSettings,
-    fresh: FreshLevels | None = None,
-    buffer_share: float = 0.0,
+def train_on(
+    runner: Runner, env_params: EnvParams, pool: Level, *, env: KinetixEnv, network: nn.Module, settings: PPOSettings
 ) -> tuple[Runner, dict]:
-    """One PPO update (DR and SFL): collect `num_steps` steps in every env, GAE, then `update_epochs` passes of
-    `num_minibatches` minibatches. Returns the new runner and the update's metrics (scalars).
-
-    Episodes restart from `levels` (or from fresh levels sampled for this update, with `fresh`), and a
-    `buffer_share` of them from the runner's level buffer (`update_levels`)."""
-    runner, levels = update_levels(runner, env, levels, fresh, buffer_share, settings.num_envs)
-    restart = lambda key: draw_levels(levels, key, settings.num_envs)  # noqa: E731
+    """Collect `num_steps` steps in every env (ended episodes restart from levels drawn uniformly from `pool`),
+    GAE, then `update_epochs` passes of `num_minibatches` minibatches. Returns the new runner (one more update)
+    and the update's metrics (scalars)."""
+    restart = lambda key: draw_levels(pool, key, settings.num_envs)  # noqa: E731
     # --- collect
     runner, transitions, finished_return = collect(
         runner, env_params, restart, env=env, network=network, num_steps=settings.num_steps
@@ -329,8 +302,8 @@ def ppo_update(
     return runner, rollout_metrics(transitions, finished_return, losses)
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
-def plr_update(
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh"))
+def ppo_update(
     runner: Runner,
     env_params: EnvParams,
     levels: Level | None,
@@ -338,57 +311,13 @@ def plr_update(
     env: KinetixEnv,
     network: nn.Module,
     settings: PPOSettings,
-    fresh: FreshLevels | None,
-    curriculum: CurriculumSettings,
+    fresh: FreshLevels | None = None,
 ) -> tuple[Runner, dict]:
-    """One update of robust PLR or ACCEL (`rl.curricula.plr`): every environment is reset to a level of its own
-    and replays it whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer
-    levels sampled by `plr.replay_probabilities`, trains on them as `ppo_update` does and rescores them; the other
-    updates play candidates without training (new levels from the source, `fresh` or draws from `levels`; with
-    ACCEL also `edits`-fold mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
-    these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
-    picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
-    Metrics: those of `ppo_update` (losses 0 when nothing was trained), `replay` and `mutate` (1 or 0)."""
-    n = settings.num_envs
-    buffer = runner.buffer
-    key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
-    ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
-    u, p = jax.random.uniform(k_mode), curriculum.replay_prob
-    accel = curriculum.name == "accel"
-    replay = ready & (u < (p / (1.0 + p) if accel else p))
-    mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
-    slots = plr.sample_replay(buffer, k_replay, n, runner.update, curriculum)
-    buffered = index_level(buffer.levels, slots)
-    new = lambda: fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)  # noqa: E731
-    candidates = jax.lax.cond(replay, lambda: buffered, new)  # a replay round samples no new levels
-    if accel:
-        edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
-        mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
-        mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
-        candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
-    played = batch_sharded(jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates))
-    obs, env_state = jax.vmap(env.reset_to_level)(played)
-    runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
-    # --- collect: every environment stays on its level
-    runner, transitions, finished_return = collect(
-        runner, env_params, lambda _: played, env=env, network=network, num_steps=settings.num_steps
-    )
-    # --- GAE and the levels' scores
-    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
-    best_before = jnp.where(replay, buffer.max_return[slots], -jnp.inf)
-    score, solve_rate, best = plr.level_scores(
-        transitions.value, advantages, finished_return, transitions.done, transitions.solved, best_before, curriculum
-    )
-    # --- train on replayed levels only
-    train = lambda r: learn(r, transitions, advantages, targets, network=network, settings=settings)  # noqa: E731
-    skipped = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), jax.eval_shape(train, runner)[1])
-    runner, losses = jax.lax.cond(replay, train, lambda r: (r, skipped), runner)
-    buffer = jax.lax.cond(
-        replay,
-        lambda b: plr.rescore(b, slots, score, solve_rate, best, runner.update),
-        lambda b: plr.insert(b, candidates, score, solve_rate, best, runner.update),
-        buffer,
-    )
-    runner = runner.replace(buffer=buffer, update=runner.update + 1).placed()
-    modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
-    return runner, rollout_metrics(transitions, finished_return, losses) | modes
+    """One PPO update with domain randomisation: episodes restart from levels drawn uniformly from the pool
+    `levels`, or with `fresh` (and `levels` None) from `num_envs` new levels sampled for this update
+    (`train_on`). Returns the new runner and the update's metrics."""
+    if fresh is not None:
+        runner, k_source, _, k_first = update_keys(runner)
+        levels = batch_sharded(fresh(k_source, settings.num_envs))
+        runner = first_reset(runner, env, levels, k_first)
+    return train_on(runner, env_params, levels, env=env, network=network, settings=settings)

@@ -46,6 +46,7 @@ from kinetix_cli.levels.files import level_paths, load_level
 from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, using
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
+from kinetix_cli.rl.buffer import buffer_metrics
 from kinetix_cli.rl.checkpoints import (
     CHECKPOINTS,
     checkpoint_manager,
@@ -53,12 +54,12 @@ from kinetix_cli.rl.checkpoints import (
     save_runner,
     writing,
 )
-from kinetix_cli.rl.curricula.buffer import buffer_metrics
-from kinetix_cli.rl.curricula.sfl import refresh_buffer
+from kinetix_cli.rl.curricula.plr import plr_update
+from kinetix_cli.rl.curricula.sfl import refresh_buffer, sfl_update
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
-from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, plr_update, ppo_update
+from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
 
 METRICS_FILE = "metrics.jsonl"
 VERSIONS_FILE = "versions.json"
@@ -121,15 +122,13 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     network = make_network(config.model, config.env)
     settings, curriculum = config.ppo, config.curriculum
     sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
+    parts = {"env": env, "network": network, "settings": settings, "fresh": fresh}
     if curriculum.name in ("plr", "accel"):
-        update = functools.partial(
-            plr_update, env=env, network=network, settings=settings, fresh=fresh, curriculum=curriculum
-        )
+        update = functools.partial(plr_update, **parts, curriculum=curriculum)
+    elif sfl:
+        update = functools.partial(sfl_update, **parts, curriculum=curriculum)
     else:
-        share = curriculum.buffer_share * sfl
-        update = functools.partial(
-            ppo_update, env=env, network=network, settings=settings, fresh=fresh, buffer_share=share
-        )
+        update = functools.partial(ppo_update, **parts)
     refresh = functools.partial(refresh_buffer, env=env, network=network, fresh=fresh, curriculum=curriculum)
     key = replicate(jax.random.key(config.run.seed), mesh)
     size = curriculum.buffer_size * buffered

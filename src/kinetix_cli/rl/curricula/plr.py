@@ -1,5 +1,5 @@
 """Robust PLR, prioritised level replay (Jiang et al., 2021), as the Kinetix paper runs it: the update itself is
-`rl.ppo.plr_update`; here are the buffer's replay distribution, the level scores and the buffer updates.
+`plr_update`, after the buffer's replay distribution, the level scores and the buffer updates.
 
 Every update resets all environments. With probability `replay_prob` (once the buffer is `min_fill` full) they
 replay levels sampled from the buffer, train on them and rescore them; otherwise they play new levels from the
@@ -11,12 +11,20 @@ updates since it was last played.
 
 from __future__ import annotations
 
+import functools
+
+import flax.linen as nn
 import jax
 import jax.numpy as jnp
 
-from kinetix_cli.config import CurriculumSettings
-from kinetix_cli.env.level import Level
-from kinetix_cli.rl.curricula.buffer import LevelBuffer, top_levels
+from kinetix_cli.config import CurriculumSettings, PPOSettings
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Level, draw_levels, index_level
+from kinetix_cli.generator.fresh import FreshLevels
+from kinetix_cli.generator.mutate import mutate_level
+from kinetix_cli.parallel import batch_sharded
+from kinetix_cli.rl.buffer import LevelBuffer, top_levels
+from kinetix_cli.rl.ppo import Runner, collect, gae, learn, rollout_metrics
 
 
 def replay_probabilities(buffer: LevelBuffer, update: jax.Array, curriculum: CurriculumSettings) -> jax.Array:
@@ -93,3 +101,68 @@ def insert(
         join(buffer.max_return, best),
         buffer.rounds + 1,
     )
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
+def plr_update(
+    runner: Runner,
+    env_params: EnvParams,
+    levels: Level | None,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+    fresh: FreshLevels | None,
+    curriculum: CurriculumSettings,
+) -> tuple[Runner, dict]:
+    """One update of robust PLR or ACCEL: every environment is reset to a level of its own and replays it
+    whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer levels sampled by
+    `replay_probabilities`, trains on them as `rl.ppo.ppo_update` does and rescores them; the other
+    updates play candidates without training (new levels from the source, `fresh` or draws from `levels`; with
+    ACCEL also `edits`-fold mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
+    these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
+    picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
+    Metrics: those of `ppo_update` (losses 0 when nothing was trained), `replay` and `mutate` (1 or 0)."""
+    n = settings.num_envs
+    buffer = runner.buffer
+    key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
+    ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
+    u, p = jax.random.uniform(k_mode), curriculum.replay_prob
+    accel = curriculum.name == "accel"
+    replay = ready & (u < (p / (1.0 + p) if accel else p))
+    mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
+    slots = sample_replay(buffer, k_replay, n, runner.update, curriculum)
+    buffered = index_level(buffer.levels, slots)
+    new = lambda: fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)  # noqa: E731
+    candidates = jax.lax.cond(replay, lambda: buffered, new)  # a replay round samples no new levels
+    if accel:
+        edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
+        mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
+        mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
+        candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
+    played = batch_sharded(jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates))
+    obs, env_state = jax.vmap(env.reset_to_level)(played)
+    runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
+    # --- collect: every environment stays on its level
+    runner, transitions, finished_return = collect(
+        runner, env_params, lambda _: played, env=env, network=network, num_steps=settings.num_steps
+    )
+    # --- GAE and the levels' scores
+    advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
+    best_before = jnp.where(replay, buffer.max_return[slots], -jnp.inf)
+    score, solve_rate, best = level_scores(
+        transitions.value, advantages, finished_return, transitions.done, transitions.solved, best_before, curriculum
+    )
+    # --- train on replayed levels only
+    train = lambda r: learn(r, transitions, advantages, targets, network=network, settings=settings)  # noqa: E731
+    skipped = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), jax.eval_shape(train, runner)[1])
+    runner, losses = jax.lax.cond(replay, train, lambda r: (r, skipped), runner)
+    buffer = jax.lax.cond(
+        replay,
+        lambda b: rescore(b, slots, score, solve_rate, best, runner.update),
+        lambda b: insert(b, candidates, score, solve_rate, best, runner.update),
+        buffer,
+    )
+    runner = runner.replace(buffer=buffer, update=runner.update + 1).placed()
+    modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
+    return runner, rollout_metrics(transitions, finished_return, losses) | modes

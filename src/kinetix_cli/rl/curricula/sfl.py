@@ -5,8 +5,8 @@ random levels, or the pool) and the current policy plays `score_attempts` copies
 environment steps, restarting the same level whenever an episode ends. A level's solve rate p is its solved
 episodes over its ended episodes, all copies together (0 when none ended); its learnability is p (1 - p):
 highest for levels solved half of the time, zero for levels always or never solved. The `buffer_size` most
-learnable levels replace the buffer, and `rl.ppo.ppo_update` starts `buffer_share` of each update's episodes from
-them.
+learnable levels replace the buffer. `sfl_update` is PPO's update with `buffer_share` of each update's pool drawn
+from the buffer and the rest from the source.
 """
 
 from __future__ import annotations
@@ -17,12 +17,13 @@ import flax.linen as nn
 import jax
 import jax.numpy as jnp
 
-from kinetix_cli.config import CurriculumSettings
+from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.parallel import batch_sharded, replicated
-from kinetix_cli.rl.curricula.buffer import LevelBuffer, top_levels
+from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
+from kinetix_cli.rl.ppo import Runner, first_reset, train_on, update_keys
 
 
 def episode_counts(
@@ -98,3 +99,28 @@ def refresh_buffer(
     scores, best = rates * (1.0 - rates), jnp.zeros_like(rates)
     buffer = top_levels(levels, scores, rates, curriculum.buffer_size, seen, best, rounds)
     return replicated(buffer)  # one global buffer, a copy on every device
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
+def sfl_update(
+    runner: Runner,
+    env_params: EnvParams,
+    levels: Level | None,
+    *,
+    env: KinetixEnv,
+    network: nn.Module,
+    settings: PPOSettings,
+    fresh: FreshLevels | None,
+    curriculum: CurriculumSettings,
+) -> tuple[Runner, dict]:
+    """One PPO update (`rl.ppo.train_on`) whose pool is round(buffer_share x num_envs) levels drawn from the
+    runner's buffer and the rest from the source: fresh levels (`fresh`) or draws from the pool `levels`."""
+    n = settings.num_envs
+    from_buffer = round(curriculum.buffer_share * n)
+    runner, k_source, k_buffer, k_first = update_keys(runner)
+    source = fresh(k_source, n - from_buffer) if fresh is not None else draw_levels(levels, k_source, n - from_buffer)
+    buffered = draw_from_buffer(runner.buffer, k_buffer, from_buffer)
+    pool = batch_sharded(jax.tree.map(lambda a, b: jnp.concatenate([a, b]), buffered, source))
+    if fresh is not None:
+        runner = first_reset(runner, env, pool, k_first)
+    return train_on(runner, env_params, pool, env=env, network=network, settings=settings)

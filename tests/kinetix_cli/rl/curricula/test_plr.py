@@ -14,8 +14,8 @@ import pytest
 
 from helpers.runs import tiny_config
 from kinetix_cli.config import ConfigError, CurriculumSettings
+from kinetix_cli.rl.buffer import empty_buffer
 from kinetix_cli.rl.curricula import plr
-from kinetix_cli.rl.curricula.buffer import empty_buffer
 from kinetix_cli.rl.train import train
 
 PLR = [

@@ -7,7 +7,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from kinetix_cli.env.level import level_count
-from kinetix_cli.rl.curricula.buffer import buffer_metrics, draw_from_buffer, empty_buffer, top_levels
+from kinetix_cli.rl.buffer import buffer_metrics, draw_from_buffer, empty_buffer, top_levels
 
 
 def test_top_levels_keeps_the_best_first_and_draws_only_filled_slots(tiny_pool):
