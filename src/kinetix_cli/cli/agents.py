@@ -19,7 +19,8 @@ def agents(
     ctx: typer.Context,
     as_json: bool = typer.Option(False, "--json", help="Print the agents' cards as JSON instead of a table."),
 ) -> None:
-    """List the shipped agents: name and version, model, training steps and zero-shot solve rate per suite."""
+    """List the shipped agents (every version kept; `NAME@VERSION` loads an older one): name and version, model,
+    training steps and zero-shot solve rate per suite."""
     if ctx.invoked_subcommand is not None:
         return
     from kinetix_cli.rl.agents import shipped_agents

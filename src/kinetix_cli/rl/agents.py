@@ -9,8 +9,10 @@ An agent folder (`kinetix agents export`) is a policy alone, small enough to shi
   trained (run, updates, environment steps, the commands that made it, machine and versions) and its evaluation
   (`kinetix eval --json` results per suite).
 
-The shipped agents live in `kinetix_cli/rl/shipped/<name>/` and are installed with the package. A name resolves to
-a shipped agent only when no file or folder of that name exists, so a local run called `general-s` still wins.
+The shipped agents live in `kinetix_cli/rl/shipped/<name>/` (the newest version) and `shipped/<name>@<version>/`
+(older ones kept loadable) and are installed with the package. `general-s` names the newest version, `general-s@1`
+version 1. A name resolves to a shipped agent only when no file or folder of that name exists, so a local run
+called `general-s` still wins.
 """
 
 from __future__ import annotations
@@ -63,16 +65,35 @@ class AgentCard:
         return {"folder": str(self.folder)} | {f.name: getattr(self, f.name) for f in dataclasses.fields(self)[1:]}
 
 
-def shipped_names() -> list[str]:
-    """Names of the agents installed with the package."""
+def shipped_folders() -> list[Path]:
+    """Folders of the agents installed with the package, every version: by name, the newest version first."""
     if not SHIPPED.is_dir():
         return []
-    return sorted(p.name for p in SHIPPED.iterdir() if (p / AGENT_FILE).is_file())
+    folders = [p for p in SHIPPED.iterdir() if (p / AGENT_FILE).is_file()]
+    return sorted(folders, key=lambda p: (p.name.partition("@")[0], "@" in p.name, p.name))
+
+
+def shipped_names() -> list[str]:
+    """Names of the agents installed with the package (each name's newest version; `name@version` for others)."""
+    return [p.name for p in shipped_folders() if "@" not in p.name]
 
 
 def shipped_agents() -> list[tuple[AgentCard, ExperimentConfig]]:
-    """(card, config) of every shipped agent, by name."""
-    return [(read_card(SHIPPED / name), load_config(SHIPPED / name / CONFIG_FILENAME)) for name in shipped_names()]
+    """(card, config) of every shipped agent and version, by name, the newest version first."""
+    return [(read_card(folder), load_config(folder / CONFIG_FILENAME)) for folder in shipped_folders()]
+
+
+def shipped_agent(name: str) -> Path | None:
+    """The folder of the shipped agent `name` (newest version) or `name@version`, or None when none is."""
+    base, _, version = name.partition("@")
+    if base not in shipped_names():
+        return None
+    if not version:
+        return SHIPPED / base
+    for folder in (SHIPPED / base, SHIPPED / name):
+        if (folder / AGENT_FILE).is_file() and str(read_card(folder).version) == version:
+            return folder
+    return None
 
 
 def read_card(folder: str | Path) -> AgentCard:
@@ -124,9 +145,10 @@ def resolve(source: str | os.PathLike) -> Path:
     path = Path(source)
     if path.exists() or os.sep in str(source):
         return path
-    if str(source) in shipped_names():
-        return SHIPPED / str(source)
-    names = ", ".join(shipped_names()) or "none installed"
+    folder = shipped_agent(str(source))
+    if folder is not None:
+        return folder
+    names = ", ".join(p.name for p in shipped_folders()) or "none installed"
     raise UserError(f"{source}: no such run, checkpoint or agent folder, nor a shipped agent (shipped: {names})")
 
 

@@ -105,6 +105,26 @@ def test_unknown_names_and_damaged_agents_are_one_line(capsys, shipped, tmp_path
     assert "format: expected 'kinetix-agent/1', got 'kinetix-agent/9'" in kinetix(capsys, "eval", damaged).error_line
 
 
+def test_older_versions_of_a_shipped_agent_load_by_name_and_version(capsys, exported, tmp_path, monkeypatch):
+    """`name` is the newest version (folder `name`), `name@version` any version kept (folder `name@version`)."""
+    installed = tmp_path / "shipped"
+    newest, older = installed / "tiny-agent", installed / "tiny-agent@2"
+    shutil.copytree(exported, newest)
+    shutil.copytree(exported, older)
+    card = json.loads((older / "agent.json").read_text())
+    (older / "agent.json").write_text(json.dumps(card | {"version": 2}))
+    monkeypatch.setattr(agents, "SHIPPED", installed)
+    assert agents.shipped_names() == ["tiny-agent"]
+    assert agents.resolve("tiny-agent") == agents.resolve("tiny-agent@3") == newest
+    assert agents.resolve("tiny-agent@2") == older
+    listed = kinetix(capsys, "agents")
+    assert listed.out.index("tiny-agent v3") < listed.out.index("tiny-agent v2")
+    line = kinetix(capsys, "eval", "tiny-agent@1").error_line
+    assert "tiny-agent@1: no such run, checkpoint or agent folder, nor a shipped agent" in line
+    assert "(shipped: tiny-agent, tiny-agent@2)" in line
+    assert kinetix(capsys, "eval", "tiny-agent@2", "--levels", EVAL_LEVEL, "--attempts", "1").code == 0
+
+
 def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
     folder = tmp_path / "a"
     agents.export_agent(tiny_run, folder, name="a", version=1, commands=[])
