@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import dataclasses
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from engine import SIZES
+from kinetix_cli.bench.env import random_levels
 from kinetix_cli.config import PPOSettings
-from kinetix_cli.rl.ppo import Transition, entropy_weight, gae, ppo_loss
+from kinetix_cli.env.environment import KinetixEnv
+from kinetix_cli.env.level import draw_levels, index_level
+from kinetix_cli.rl.ppo import Runner, Transition, entropy_weight, first_reset, gae, ppo_loss
 
 
 def _transitions(terminated, done):
@@ -100,3 +105,23 @@ def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():
     decaying = dataclasses.replace(constant, ent_coef_end=0.01)
     weights = [float(entropy_weight(decaying, jnp.asarray(u))) for u in (0, 5, 10, 12)]
     assert weights == pytest.approx([0.05, 0.03, 0.01, 0.01])
+
+
+def test_the_first_reset_happens_at_update_0_only():
+    """A fresh source's environments start on a placeholder: update 0 resets them all to pool levels (the
+    environments then hold exactly the levels `draw_levels` picks); any later update leaves them as they are."""
+    static = SIZES["s"]
+    env = KinetixEnv(static, observation="symbolic-flat")
+    levels = random_levels(static, 4, 0)
+    start_obs, start_state = jax.vmap(env.reset_to_level)(index_level(levels, jnp.zeros(3, jnp.int32)))
+    pool, key = index_level(levels, jnp.arange(1, 4)), jax.random.key(5)
+
+    @jax.jit
+    def reset(update):
+        runner = Runner(None, None, start_state, start_obs, jnp.zeros(3), jax.random.key(0), update)
+        return first_reset(runner, env, pool, key).obs
+
+    expected, _ = jax.vmap(env.reset_to_level)(draw_levels(pool, key, 3))
+    np.testing.assert_array_equal(reset(jnp.int32(0)), expected)
+    assert not np.array_equal(expected, start_obs)
+    np.testing.assert_array_equal(reset(jnp.int32(1)), start_obs)
