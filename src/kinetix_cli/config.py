@@ -230,6 +230,10 @@ class RunSettings:
             `kinetix finetune` sets it to its fine-tuning levels (a `--set run.eval_levels=...` still wins).
         wandb: Weights & Biases logging: 'off' (default), 'offline' (local files to sync later) or 'online'.
         init_from: checkpoint to load the initial parameters from (fine-tuning), or null to start from scratch.
+        minutes: a wall-clock budget [min]: the run ends after the update during which its training time (the
+            updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
+            checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
+            comparisons at equal wall-clock; the learning-rate schedule still runs over `ppo.total_timesteps`.
     """
 
     seed: int = 0
@@ -239,10 +243,12 @@ class RunSettings:
     eval_levels: tuple[str, ...] = ()
     wandb: WandbMode = "off"
     init_from: str | None = None
+    minutes: float = 0.0
 
     def __post_init__(self):
         _check_types(self)
         _within(self, "seed", 0, INT32_MAX)
+        _within(self, "minutes", 0, 10**7)  # 0: no budget
         _within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
         _within(self, "eval_every", 0, INT32_MAX)  # 0: never
         _within(self, "eval_attempts", 1, 10**6)

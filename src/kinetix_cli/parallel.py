@@ -230,6 +230,20 @@ def sync(name: str) -> None:
 _barriers: dict[str, int] = {}
 
 
+def primary_decides(name: str, value: bool) -> bool:
+    """The primary process's `value` in every process (a single process: `value`): for decisions each process
+    would make differently, like a wall-clock budget each one times on its own clock. Every process must call it
+    at the same points, each call with a new (`name`, count); passed through jax.distributed's key-value store."""
+    if jax.process_count() == 1:
+        return value
+    _barriers[name] = _barriers.get(name, 0) + 1
+    key = f"kinetix/decide/{name}/{_barriers[name]}"
+    if is_primary():
+        _client().key_value_set(key, "1" if value else "0")
+        return value
+    return _client().blocking_key_value_get(key, BARRIER_TIMEOUT * 1000) == "1"
+
+
 def make_mesh(devices: int | None = None, local_only: bool = False) -> Mesh:
     """The 1-D mesh over `devices` local devices of every process (None: all of them); with `local_only`, over
     this process's only (work that each process does on its own, like evaluation)."""

@@ -271,6 +271,7 @@ def test_missing_file_bad_yaml_and_bad_top_level_name_the_file(tmp_path):
         ("model:\n  name: flat-mlp\n", "model.name: 'flat-mlp' needs env.observation 'symbolic-flat' or 'pixels'"),
         ("env:\n  observation: pixels\n", "model.name: 'transformer' needs env.observation 'symbolic-entity'"),
         ("run:\n  eval_attempts: 0\n", "run.eval_attempts: must be >= 1"),
+        ("run:\n  minutes: -1\n", "run.minutes: must be >= 0"),
         ("levels:\n  source: levelset\n", "levels.levelset: is required when levels.source is 'levelset'"),
         ("levels:\n  source: files\n", "levels.files: must list at least one level file"),
         ("levels:\n  files: [a.json]\n", "levels.files: is only used when levels.source is 'files'"),

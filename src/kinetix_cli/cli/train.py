@@ -99,10 +99,11 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
     columns = (TextColumn("training"), BarColumn(), TextColumn("{task.fields[info]}"), TimeElapsedColumn())
     with Progress(*columns, TextColumn("ETA"), TimeRemainingColumn(), console=console) as bar:
         task = bar.add_task("train", total=p.num_updates * p.batch_size, info="levels and compile...")
-        last_eval = ""
+        last_eval, steps = "", 0
 
         def report(r: dict) -> None:
-            nonlocal last_eval
+            nonlocal last_eval, steps
+            steps = r["steps"]
             if "eval_solve_rate" in r:
                 last_eval = f", eval {r['eval_solve_rate']:.0%}"
             info = f"{r['steps']:,} steps, {r['sps']:,.0f} SPS, return {r['return']:+.2f}"
@@ -110,6 +111,8 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
             bar.update(task, completed=r["steps"], info=info)
 
         train(experiment, run_dir, resume=resume, progress=report, init_params=init_params, devices=devices)
+    if experiment.run.minutes and steps < p.num_updates * p.batch_size:
+        console.print(f"run.minutes: the {experiment.run.minutes:g}-minute budget ended the run at {steps:,} steps")
     console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
 
 

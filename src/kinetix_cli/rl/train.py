@@ -43,7 +43,15 @@ from kinetix_cli.env.level import Level, to_host
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, atomic_write_text, check_output_dir, write_reason
 from kinetix_cli.levels.files import level_paths, load_level
-from kinetix_cli.parallel import check_divisible, is_primary, make_mesh, replicate, sync, using
+from kinetix_cli.parallel import (
+    check_divisible,
+    is_primary,
+    make_mesh,
+    primary_decides,
+    replicate,
+    sync,
+    using,
+)
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.buffer import buffer_metrics
@@ -161,8 +169,11 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
         raise UserError(f"--run-dir {run_dir}: cannot write: {exc.strerror or exc}") from None
     kept = start or None  # the last complete checkpoint
     pool_every, pool_round = config.levels.refresh_every, 0
+    budget = config.run.minutes * 60  # 0: none; the primary's clock decides for every process
+    trained = _trained_seconds(run_dir / METRICS_FILE, settings) if start and primary else 0.0
+    spent = bool(budget) and primary_decides("budget", trained >= budget)  # a resumed run that had used it up
     with log, writing(manager):
-        for u in range(start, settings.num_updates):
+        for u in range(start, start if spent else settings.num_updates):
             tic = time.perf_counter()
             if pool_every and u // pool_every != pool_round:  # a new generated pool (a resumed run: its round's)
                 pool_round = u // pool_every
@@ -183,7 +194,9 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                     f"{run_dir}: update {u + 1}: {', '.join(bad)} not finite: training diverged (ppo.lr "
                     f"{settings.lr:g}, max_grad_norm {settings.max_grad_norm:g}); nothing of this update was kept"
                 )
-            last = u + 1 == settings.num_updates
+            trained += seconds
+            out_of_time = bool(budget) and primary_decides("budget", trained >= budget)
+            last = u + 1 == settings.num_updates or out_of_time
             evaluation = None
             if evaluator is not None and ((u + 1) % config.run.eval_every == 0 or last):
                 evaluation = _evaluation(evaluator, runner.params, config.run, run_dir, u + 1)
@@ -204,6 +217,8 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                 logger.log(record, step=steps)
             if progress is not None and primary:
                 progress(record)
+            if last:
+                break
     if logger is not None:
         logger.finish()
     return runner
@@ -337,6 +352,15 @@ def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
             f"wandb did not start ({type(exc).__name__}: {exc}); metrics go to metrics.jsonl only", stacklevel=2
         )
         return None
+
+
+def _trained_seconds(path: Path, settings) -> float:
+    """Training time of the updates logged in `metrics.jsonl` [s], rebuilt from each one's steps per second (what
+    `run.minutes` counts; a resumed run goes on from it)."""
+    if not path.exists():
+        return 0.0
+    records = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line.strip())
+    return sum(settings.batch_size / record["sps"] for record in records)
 
 
 def _truncate_metrics(path: Path, last_update: int) -> None:

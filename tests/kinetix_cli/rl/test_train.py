@@ -56,6 +56,17 @@ def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny_run, t
     ]
 
 
+def test_a_wall_clock_budget_ends_the_run_as_its_last_update_would(tmp_path, tiny_pool):
+    config = tiny_config("run.minutes=1e-9")  # spent by the first update
+    run_dir = tmp_path / "budget"
+    train(config, run_dir, pool=tiny_pool)
+    lines = metrics(run_dir)
+    assert [x["update"] for x in lines] == [1] and "eval_solve_rate" in lines[0]  # evaluated as at the end
+    assert sorted(p.name for p in (run_dir / "checkpoints").iterdir()) == ["1"]
+    train(config, run_dir, resume=True, pool=tiny_pool)  # the budget is used up: nothing more runs
+    assert [x["update"] for x in metrics(run_dir)] == [1]
+
+
 def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tiny_run):
     config, params, update = load_policy(tiny_run)
     assert update == 6 and config == tiny_config()

@@ -92,6 +92,14 @@ def test_two_processes_train_as_two_devices_bit_for_bit(tiny_run, two_device_run
     assert sorted(p.name for p in (two_process_run / "checkpoints").iterdir()) == ["2", "4"]
 
 
+@pytest.mark.slow  # ~40 s: two processes compile and train
+def test_the_primarys_clock_ends_a_budgeted_run_in_every_process(tmp_path, env):
+    run_dir = tmp_path / "budget"
+    run_ok(processes([*FOUR, "--set", "run.minutes=1e-9", "--run-dir", run_dir], env))  # spent by update 1
+    assert [json.loads(line)["update"] for line in (run_dir / "metrics.jsonl").read_text().splitlines()] == [1]
+    assert sorted(p.name for p in (run_dir / "checkpoints").iterdir()) == ["1"]
+
+
 SHORT_SFL = [*SFL, "ppo.total_timesteps=384", "run.checkpoint_every=3"]  # 6 updates, refreshes before 1, 3 and 5
 
 
