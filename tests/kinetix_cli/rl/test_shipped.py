@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from helpers.cli import kinetix
-from kinetix_cli.config import CONFIG_FILENAME
+from helpers.paths import EXPERIMENTS
+from kinetix_cli.config import CONFIG_FILENAME, load_config
 from kinetix_cli.rl import agents
 
 
@@ -27,3 +28,10 @@ def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
     result = kinetix(capsys, "agents")
     assert result.code == 0 and "levels/s" in result.out
     assert all(f"general-{size}" in result.out for size in "sml")
+
+
+def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
+    config = agents.load_policy("general-s")[0]
+    assert agents.read_card(agents.SHIPPED / "general-s").version == 2
+    recipe = load_config(EXPERIMENTS / "general.yaml", ["run.eval_levels=[.cache/reference-levels/s]"])
+    assert config == recipe
