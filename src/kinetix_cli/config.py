@@ -234,6 +234,7 @@ class RunSettings:
             updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
             checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
             comparisons at equal wall-clock; the learning-rate schedule still runs over `ppo.total_timesteps`.
+            The one setting a resumed run may change: `--resume --set run.minutes=...` extends the budget.
     """
 
     seed: int = 0

@@ -108,8 +108,11 @@ def train(
     if not resume and run_dir.exists() and any(run_dir.iterdir()):
         raise UserError(f"--run-dir {run_dir}: not empty; pass --resume to continue it or choose a new folder")
     saved = run_dir / CONFIG_FILENAME
-    if resume and saved.exists() and load_config(saved) != config:
-        raise UserError(f"--resume: {saved} differs from the config given; resume with the run's own config")
+    if resume and saved.exists() and not _same_experiment(load_config(saved), config):
+        raise UserError(
+            f"--resume: {saved} differs from the config given; resume with the run's own config (only "
+            "run.minutes may change)"
+        )
 
     # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
     mesh = make_mesh(devices)
@@ -222,6 +225,13 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     if logger is not None:
         logger.finish()
     return runner
+
+
+def _same_experiment(saved: ExperimentConfig, given: ExperimentConfig) -> bool:
+    """Whether `given` continues the run of `saved`: equal but for the wall-clock budget, which a resumed run may
+    extend (the run then trains until its total training time passes the new one)."""
+    budget = dataclasses.replace(given.run, minutes=saved.run.minutes)
+    return saved == dataclasses.replace(given, run=budget)
 
 
 def _write_failed(run_dir: Path, update: int, exc: Exception, kept: int | None) -> UserError:

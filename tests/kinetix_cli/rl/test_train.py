@@ -56,7 +56,7 @@ def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny_run, t
     ]
 
 
-def test_a_wall_clock_budget_ends_the_run_as_its_last_update_would(tmp_path, tiny_pool):
+def test_a_wall_clock_budget_ends_the_run_as_its_last_update_would(tmp_path, tiny_run, tiny_pool):
     config = tiny_config("run.minutes=1e-9")  # spent by the first update
     run_dir = tmp_path / "budget"
     train(config, run_dir, pool=tiny_pool)
@@ -65,6 +65,11 @@ def test_a_wall_clock_budget_ends_the_run_as_its_last_update_would(tmp_path, tin
     assert sorted(p.name for p in (run_dir / "checkpoints").iterdir()) == ["1"]
     train(config, run_dir, resume=True, pool=tiny_pool)  # the budget is used up: nothing more runs
     assert [x["update"] for x in metrics(run_dir)] == [1]
+    with pytest.raises(UserError, match="only run.minutes may change"):
+        train(tiny_config("run.minutes=1e-9", "run.seed=1"), run_dir, resume=True, pool=tiny_pool)
+    extended = train(tiny_config("run.minutes=1000"), run_dir, resume=True, pool=tiny_pool)  # a larger budget
+    assert [x["update"] for x in metrics(run_dir)] == [1, 2, 3, 4, 5, 6]
+    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run)[1], extended.params)  # as if never stopped
 
 
 def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tiny_run):
