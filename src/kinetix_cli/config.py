@@ -230,6 +230,9 @@ class RunSettings:
             `kinetix finetune` sets it to its fine-tuning levels (a `--set run.eval_levels=...` still wins).
         wandb: Weights & Biases logging: 'off' (default), 'offline' (local files to sync later) or 'online'.
         init_from: checkpoint to load the initial parameters from (fine-tuning), or null to start from scratch.
+        fresh_policy_head: fine-tuning only (with `init_from` or `kinetix finetune --from`): the actor's output
+            layer starts freshly initialised, a near-uniform policy, while the rest of the network (features, critic)
+            keeps the loaded parameters; for agents whose confident habits fail on the new level.
         minutes: a wall-clock budget [min]: the run ends after the update during which its training time (the
             updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
             checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
@@ -244,12 +247,14 @@ class RunSettings:
     eval_levels: tuple[str, ...] = ()
     wandb: WandbMode = "off"
     init_from: str | None = None
+    fresh_policy_head: bool = False
     minutes: float = 0.0
 
     def __post_init__(self):
         _check_types(self)
         _within(self, "seed", 0, INT32_MAX)
         _within(self, "minutes", 0, 10**7)  # 0: no budget
+        _require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
         _within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
         _within(self, "eval_every", 0, INT32_MAX)  # 0: never
         _within(self, "eval_attempts", 1, 10**6)

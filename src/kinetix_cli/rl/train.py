@@ -148,7 +148,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from)[1]
     if init_params is not None:
-        runner = _with_params(runner, replicate(init_params, mesh), settings, origin)
+        runner = _with_params(runner, replicate(init_params, mesh), settings, origin, config.run.fresh_policy_head)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
         with checkpoint_manager(run_dir, read_only=True) as reader:
@@ -285,15 +285,34 @@ def finetune_config(
     return load_config(path, [*settings, *overrides])
 
 
-def _with_params(runner: Runner, params, settings, origin: str) -> Runner:
+def _with_params(runner: Runner, params, settings, origin: str, fresh_policy_head: bool = False) -> Runner:
     """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match (else an
-    error naming `origin`, the flag or key and where the parameters came from)."""
+    error naming `origin`, the flag or key and where the parameters came from). With `fresh_policy_head` the
+    actor's output layer keeps the runner's own fresh initialisation."""
     if jax.tree.structure(params) != jax.tree.structure(runner.params) or any(
         a.shape != b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(runner.params), strict=True)
     ):
         raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings")
     params = jax.tree.map(jnp.asarray, params)
+    if fresh_policy_head:
+        params = _replace_subtrees(params, runner.params, POLICY_HEAD)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
+
+
+POLICY_HEAD = "actor_head"
+"""The parameter scope of every model's policy output layer (`networks.ActorCriticHeads`)."""
+
+
+def _replace_subtrees(params: dict, fresh: dict, name: str) -> dict:
+    """`params` with every subtree called `name` taken from `fresh` (a tree of the same structure)."""
+    return {
+        key: fresh[key]
+        if key == name
+        else _replace_subtrees(value, fresh[key], name)
+        if isinstance(value, dict)
+        else value
+        for key, value in params.items()
+    }
 
 
 def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
