@@ -9,8 +9,10 @@ from pathlib import Path
 out = Path(sys.argv[1])
 print("| level | arm | final solve rate per seed | mean | eval solve rate during training (mean over seeds) |")
 print("|---|---|---|---|---|")
+totals = {}  # arm -> per level (mean final, mean of the curve)
 for level in sorted(p for p in out.iterdir() if p.is_dir()):
-    for arm in ("finetuned", "scratch"):
+    arms = sorted({r.name.rsplit("-", 1)[0] for r in level.iterdir() if r.is_dir()})  # finetuned, scratch, others
+    for arm in arms:
         runs = sorted(r for r in level.glob(f"{arm}-*") if (r / "eval.json").exists())  # finished runs
         finals = [json.loads((r / "eval.json").read_text())["suites"]["all"]["solve_rate"] for r in runs]
         curves = {}
@@ -23,3 +25,10 @@ for level in sorted(p for p in out.iterdir() if p.is_dir()):
         seeds = " / ".join(f"{f:.0%}" for f in finals)
         mean = statistics.mean(finals) if finals else float("nan")
         print(f"| {level.name} | {arm} | {seeds} | {mean:.0%} | {curve} |")
+        if finals and curves:
+            area = statistics.mean(statistics.mean(v) for v in curves.values())
+            totals.setdefault(arm, []).append((mean, area))
+print()
+for arm, rows in sorted(totals.items()):
+    finals, areas = zip(*rows, strict=True)
+    print(f"- {arm}: {len(rows)} levels, mean final {statistics.mean(finals):.1%}, mean of the curves {statistics.mean(areas):.1%}")
