@@ -41,12 +41,17 @@ $(REFERENCE_LEVELS)/.fetched: | $(BIN)/python
 reference-levels: $(REFERENCE_LEVELS)/.fetched
 
 DEMO_LEVEL := levels/s/rocket-car-jump.json
-# general-s v1 until the demo is reworked (issue 25): v2 solves rocket-car-jump 0% zero-shot and its 200K-step
-# fine-tune here stays at 0% (2026-11-26), v1 fine-tunes to 100% (BENCHMARKS.md).
-DEMO_AGENT := general-s@1
+# What pretraining buys: fine-tune the shipped general-s (v2) on a level it solves ~5% zero-shot, and train the same
+# network from scratch for the same 200K steps (BENCHMARKS.md, "What make demo fine-tunes": 3 seeds, fine-tuned
+# 100% each, scratch 0% each).
+TUNE_LEVEL := levels/m/two-link-reach.json
+DEMO_AGENT := general-s
+TUNE := --config experiments/cpu-small.yaml --set ppo.total_timesteps=200000 --set ppo.ent_coef=0.05 \
+	--set ppo.ent_coef_end=0.01
+SCRATCH_NETWORK := --set model.name=rel-mlp --set model.width=64 --set model.mask_unused_actions=true  # general-s v2's
 
 demo: $(STAMP)
-	rm -rf demo-out/levels-s demo-out/pretrain demo-out/finetune
+	rm -rf demo-out/levels-s demo-out/pretrain demo-out/finetune demo-out/scratch
 	$(BIN)/kinetix demo
 	$(BIN)/kinetix validate --play $(DEMO_LEVEL)
 	$(BIN)/kinetix render $(DEMO_LEVEL) -o demo-out/level.png
@@ -56,17 +61,21 @@ demo: $(STAMP)
 	$(BIN)/kinetix pretrain --config experiments/cpu-small.yaml --run-dir demo-out/pretrain --levels demo-out/levels-s
 	$(BIN)/kinetix eval demo-out/pretrain --levels levels/s --json demo-out/eval-pretrain.json
 	$(BIN)/kinetix agents
-	$(BIN)/kinetix eval $(DEMO_AGENT) --levels $(DEMO_LEVEL) --json demo-out/eval-general-s.json
-	$(BIN)/kinetix finetune $(DEMO_LEVEL) --from $(DEMO_AGENT) --run-dir demo-out/finetune \
-		--config experiments/cpu-small.yaml --set ppo.total_timesteps=200000
-	$(BIN)/kinetix eval demo-out/finetune --levels $(DEMO_LEVEL) --json demo-out/eval-finetune.json
-	$(BIN)/kinetix rollout $(DEMO_LEVEL) --policy demo-out/finetune -o demo-out/finetuned.gif
-	$(BIN)/kinetix report demo-out/finetune -o demo-out/report
+	$(BIN)/kinetix eval $(DEMO_AGENT) --levels $(TUNE_LEVEL) --json demo-out/eval-general-s.json
+	$(BIN)/kinetix finetune $(TUNE_LEVEL) --from $(DEMO_AGENT) --run-dir demo-out/finetune $(TUNE)
+	$(BIN)/kinetix finetune $(TUNE_LEVEL) --from none --run-dir demo-out/scratch $(TUNE) $(SCRATCH_NETWORK)
+	$(BIN)/kinetix eval demo-out/finetune --levels $(TUNE_LEVEL) --json demo-out/eval-finetune.json
+	$(BIN)/kinetix eval demo-out/scratch --levels $(TUNE_LEVEL) --json demo-out/eval-scratch.json
+	$(BIN)/kinetix compare demo-out/eval-general-s.json demo-out/eval-scratch.json demo-out/eval-finetune.json \
+		-o demo-out/compare.png
+	$(BIN)/kinetix rollout $(TUNE_LEVEL) --policy demo-out/finetune -o demo-out/finetuned.gif
+	$(BIN)/kinetix report demo-out/finetune demo-out/scratch -o demo-out/report
 	@echo "demo outputs in demo-out/: level.png and rollout.gif (a hand-made level and its solution),"
-	@echo "  levels-s/ and levels-s.png (1024 generated levels), pretrain/ and finetune/ (runs: config, metrics,"
-	@echo "  checkpoints; finetune starts from the shipped agent general-s v1), eval-pretrain.json, eval-general-s.json"
-	@echo "  (general-s zero-shot) and eval-finetune.json (solve rates), finetuned.gif (the tuned agent),"
-	@echo "  report/index.html (the fine-tuning run's page: curves, evaluation, the agent playing; open it in a browser)"
+	@echo "  levels-s/ and levels-s.png (1024 generated levels), pretrain/ (a run: config, metrics, checkpoints),"
+	@echo "  eval-pretrain.json; on $(TUNE_LEVEL): eval-general-s.json (the shipped agent zero-shot),"
+	@echo "  finetune/ and scratch/ (the agent fine-tuned, the same network from scratch, equal steps),"
+	@echo "  eval-finetune.json, eval-scratch.json and compare.png (all three side by side), finetuned.gif,"
+	@echo "  report/index.html (both runs' curves, evaluations and the agents playing; open it in a browser)"
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests
