@@ -74,7 +74,7 @@ def assert_close(one: list[dict], other: list[dict]) -> None:
         np.testing.assert_allclose([a[k] for k in a], [b[k] for k in a], rtol=1e-4, atol=1e-6)
 
 
-@pytest.mark.slow  # make test: 2 processes vs 1 device with a level set (tests/hostile/test_sources_on_devices.py)
+@pytest.mark.slow  # make test-all: also tests/hostile/test_sources_on_devices.py
 def test_two_devices_train_as_one_device(tiny_run, two_device_run):
     for a, b in zip(params(tiny_run / "checkpoints" / "4"), params(two_device_run), strict=True):
         np.testing.assert_allclose(a, b, rtol=0, atol=PARAMS_ATOL)
@@ -82,7 +82,7 @@ def test_two_devices_train_as_one_device(tiny_run, two_device_run):
     assert sorted(p.name for p in (two_device_run / "checkpoints").iterdir()) == ["2", "4"]
 
 
-@pytest.mark.slow  # make test: 2 processes vs 1 device with a level set (tests/hostile/test_sources_on_devices.py)
+@pytest.mark.slow  # make test-all: also tests/hostile/test_sources_on_devices.py
 def test_two_processes_train_as_two_devices_bit_for_bit(tiny_run, two_device_run, two_process_run):
     for a, b in zip(params(two_device_run), params(two_process_run), strict=True):
         np.testing.assert_array_equal(a, b)
