@@ -111,7 +111,7 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
             bar.update(task, completed=r["steps"], info=info)
 
         train(experiment, run_dir, resume=resume, progress=report, init_params=init_params, devices=devices)
-    if experiment.run.minutes and steps < p.num_updates * p.batch_size:
+    if experiment.run.minutes and 0 < steps < p.num_updates * p.batch_size:  # 0: resumed with the budget spent
         console.print(f"run.minutes: the {experiment.run.minutes:g}-minute budget ended the run at {steps:,} steps")
     console.print(f"wrote {run_dir}: config.yaml, metrics.jsonl, checkpoints/")
 

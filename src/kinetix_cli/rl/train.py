@@ -29,6 +29,7 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
+from flax import traverse_util
 
 from kinetix_cli.config import (
     CONFIG_FILENAME,
@@ -305,14 +306,8 @@ POLICY_HEAD = "actor_head"
 
 def _replace_subtrees(params: dict, fresh: dict, name: str) -> dict:
     """`params` with every subtree called `name` taken from `fresh` (a tree of the same structure)."""
-    return {
-        key: fresh[key]
-        if key == name
-        else _replace_subtrees(value, fresh[key], name)
-        if isinstance(value, dict)
-        else value
-        for key, value in params.items()
-    }
+    flat, fresh_flat = traverse_util.flatten_dict(params), traverse_util.flatten_dict(fresh)
+    return traverse_util.unflatten_dict({path: fresh_flat[path] if name in path else v for path, v in flat.items()})
 
 
 def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
@@ -385,7 +380,7 @@ def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
 
 def _trained_seconds(path: Path, settings) -> float:
     """Training time of the updates logged in `metrics.jsonl` [s], rebuilt from each one's steps per second (what
-    `run.minutes` counts; a resumed run goes on from it)."""
+    `run.minutes` counts, the first update's compile included; a resumed run goes on from it)."""
     if not path.exists():
         return 0.0
     records = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line.strip())
