@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The GPU benchmark, one script of at most ~8 minutes on one GPU: the engine against Jax2D at size m (1,024 to 8,192
-# scenes), PPO training env steps/s with pi-mlp and the entity transformer at 2,048 envs (size m, the reference's
-# 64 steps x 8 epochs x 32 minibatches), and a few minutes of SFL with the transformer (experiments/pretrain-s.yaml,
-# the reference recipe, then evaluated zero-shot with 50 attempts per level). gpu_summary.py prints the tables for BENCHMARKS.md.
+# scenes), PPO training env steps/s with pi-mlp, rel-mlp (the v2 agents' model) and the entity transformer at 2,048
+# envs (size m, the reference's 64 steps x 8 epochs x 32 minibatches), and a few minutes of SFL with the transformer
+# (experiments/pretrain-s.yaml, the reference recipe, then evaluated zero-shot with 50 attempts per level).
+# gpu_summary.py prints the tables for BENCHMARKS.md.
 #
 #   benchmarks/gpu.sh OUT_DIR
 #   TINY=1       the same steps at CPU sizes (seconds, not minutes): the smoke test of `make test-all`
-#   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 150)
+#   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 60)
 #   KINETIX      the command (default .venv/bin/kinetix); PYTHON likewise
 #   EVAL_LEVELS  the SFL run's evaluation suite (default: the paper's s levels if fetched, else levels/s)
 set -euo pipefail
@@ -34,12 +35,12 @@ else
   engine=(--envs 1024,2048,4096,8192 --steps 20 --min-time 1)
   train=(--envs 2048 --steps 64 --epochs 8 --minibatches 32 --width 128 --layers 5 --min-time 5)
   sfl=(--set run.eval_attempts=50)
-  seconds=${SFL_SECONDS:-150}
+  seconds=${SFL_SECONDS:-60}
 fi
 
 "$python" -c "import jax; print('devices:', jax.devices())"
 "$kinetix" bench engine --size m "${engine[@]}" --against jax2d --json "$out/engine-m.json"
-"$kinetix" bench train --size m --models pi-mlp,transformer "${train[@]}" --json "$out/train-m.json"
+"$kinetix" bench train --size m --models pi-mlp,rel-mlp,transformer "${train[@]}" --json "$out/train-m.json"
 
 # The SFL run: as many updates as the transformer's measured rate fits into $seconds (SFL's scoring comes on top)
 steps=$("$python" "$here/gpu_summary.py" --sfl-steps "$out/train-m.json" "$seconds" "${sfl[@]}")
