@@ -61,9 +61,9 @@ for variant in ${VARIANTS:-pool levelset sfl plr}; do
   if $python - "$whole" "$cut" "$variant" <<'PY'; then :; else status=1; fi
 import json, sys
 import jax, numpy as np
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 whole, cut, variant = sys.argv[1:]
-same = all(np.array_equal(a, b) for a, b in zip(jax.tree.leaves(load_policy(whole)[1]), jax.tree.leaves(load_policy(cut)[1])))
+same = all(np.array_equal(a, b) for a, b in zip(jax.tree.leaves(load_policy(whole).params), jax.tree.leaves(load_policy(cut).params)))
 lines = lambda d: [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in open(f"{d}/metrics.jsonl")]
 same_metrics = lines(whole) == lines(cut)
 print(f"{variant}: killed after checkpoint 4, resumed: params {'equal' if same else 'DIFFER'}, "

@@ -18,7 +18,7 @@ from helpers.levelsets import FILES, small_levelset
 from helpers.runs import EVAL_LEVEL, TINY, set_args
 from kinetix_cli.errors import WriteError
 from kinetix_cli.rl import train as training
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 
 PRETRAIN = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
 
@@ -51,7 +51,7 @@ def test_a_full_disk_during_training_keeps_the_last_checkpoint_and_resume_finish
         monkeypatch.undo()
         result = kinetix(capfd, *PRETRAIN, "--run-dir", run, "--resume")
         assert result.code == 0, result.err
-        jax.tree.map(np.testing.assert_array_equal, load_policy(run)[1], load_policy(tiny_run)[1])
+        jax.tree.map(np.testing.assert_array_equal, load_policy(run).params, load_policy(tiny_run).params)
         assert records(run) == records(tiny_run)
 
 

@@ -19,7 +19,7 @@ import pytest
 
 from helpers.processes import process_env
 from helpers.runs import TINY, set_args
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 
 pytestmark = pytest.mark.slow
 
@@ -118,4 +118,4 @@ def test_pretrain_killed_then_resumed_equals_an_uninterrupted_run(tmp_path, env,
     run([*PRETRAIN, *LONGER, "--run-dir", out, "--resume"], env)
     assert metric_lines(out) == metric_lines(uninterrupted_run)
     assert not list(out.rglob("*tmp*")), "the resumed run left the killed run's temporaries"
-    jax.tree.map(np.testing.assert_array_equal, load_policy(out)[1], load_policy(uninterrupted_run)[1])
+    jax.tree.map(np.testing.assert_array_equal, load_policy(out).params, load_policy(uninterrupted_run).params)

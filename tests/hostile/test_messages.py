@@ -75,5 +75,8 @@ def test_finetune_from_a_run_of_another_model_names_the_flag(capsys, tmp_path, t
     line = kinetix(
         capsys, *finetune, "--from", tiny_run, "--run-dir", tmp_path / "b", "--set", "model.width=32"
     ).error_line
-    assert line == f"error: --from {tiny_run}: the checkpoint's network does not match this run's model settings"
+    assert line.startswith(
+        f"error: --from {tiny_run}: the checkpoint's network does not match this run's model settings"
+    )
+    assert line.endswith("float32[16] found)")  # the first leaf that differs: width 32 wanted, the run's 16 found
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()

@@ -17,7 +17,8 @@ import yaml
 from helpers.cli import kinetix
 from helpers.runs import EVAL_LEVEL, TINY, set_args, tiny_config
 from kinetix_cli.errors import UserError
-from kinetix_cli.rl.checkpoints import CHECKSUMS_FILE, load_policy
+from kinetix_cli.rl.agents import load_policy
+from kinetix_cli.rl.checkpoints import CHECKSUMS_FILE
 from kinetix_cli.rl.train import train
 
 
@@ -51,7 +52,7 @@ def test_resume_after_a_crash_before_the_first_checkpoint_restarts_cleanly(tmp_p
     assert not (tmp_path / "run" / "checkpoints" / "2").exists() and len(records(tmp_path / "run")) == 1
     resumed = train(tiny_config(), tmp_path / "run", resume=True, pool=tiny_pool)
     assert records(tmp_path / "run") == records(tiny_run)  # no duplicated line 1
-    jax.tree.map(np.testing.assert_array_equal, resumed.params, load_policy(tiny_run)[1])
+    jax.tree.map(np.testing.assert_array_equal, resumed.params, load_policy(tiny_run).params)
 
 
 def test_a_torn_last_metrics_line_is_dropped_on_resume(tmp_path, tiny_run, tiny_pool):

@@ -22,7 +22,7 @@ import pytest
 from helpers.levelsets import small_levelset
 from helpers.processes import FORCE_2, process_env, processes, run_ok, start
 from helpers.runs import SFL, TINY, TRAIN_LEVELS, set_args, tiny_config
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.train import train
 
 pytestmark = pytest.mark.xdist_group("generate-s-32")  # the 1-device pool is generated with its chunk program
@@ -115,7 +115,7 @@ def on_two(tmp_path_factory, levelset) -> TwoRuns:
 
 
 def params(run_dir: Path) -> list[np.ndarray]:
-    return jax.tree.leaves(load_policy(run_dir)[1])
+    return jax.tree.leaves(load_policy(run_dir).params)
 
 
 def metrics(run_dir: Path) -> list[dict]:

@@ -173,11 +173,10 @@ def rollout(
     import jax
 
     from kinetix_cli.env.episode import open_loop
-    from kinetix_cli.env.factory import make_env, make_env_for_level
+    from kinetix_cli.env.factory import make_env
     from kinetix_cli.levels.files import load_level
     from kinetix_cli.levels.solution import OPEN_LOOP_POLICIES, SOLUTION_SETTINGS, open_loop_actions
     from kinetix_cli.rl.agents import load_policy, shipped_names
-    from kinetix_cli.rl.networks import make_network, sampling_policy
     from kinetix_cli.viz.render import save_gif
     from kinetix_cli.viz.rollout import episode_frames, record_episode
 
@@ -187,15 +186,14 @@ def rollout(
         horizon = SOLUTION_SETTINGS.max_steps
         act = open_loop(jax.numpy.asarray(open_loop_actions(spec, policy, horizon, seed)))
     elif Path(policy).is_dir() or policy in shipped_names():
-        config, network_params, _ = load_policy(policy)
-        env, params = make_env_for_level(config.env, spec.default_size(), str(level))
-        horizon = config.env.max_steps
-        act = sampling_policy(make_network(config.model, config.env), network_params)
+        loaded = load_policy(policy)
+        env, params = loaded.env_for(spec.default_size(), str(level))
+        horizon, act = loaded.config.env.max_steps, loaded.act
     else:
         choices = ", ".join([*OPEN_LOOP_POLICIES, *shipped_names()])
         raise UserError(f"--policy: {policy!r} is not one of {choices} nor a run or agent folder")
     episode = record_episode(env, params, spec.build(env.static), act, jax.random.key(seed), horizon)
-    ending = ("solved", "green") if episode.solved else ("failed", "red") if episode.failed else "timed out"
+    ending = (episode.ending, {"solved": "green", "failed": "red"}.get(episode.ending, ""))
     say(
         f"{spec.name}: policy {policy}: ",
         ending,

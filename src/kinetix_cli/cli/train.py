@@ -79,7 +79,8 @@ def _load_from(source: str):
     from kinetix_cli.rl.agents import load_policy
 
     try:
-        return load_policy(source)[:2]
+        policy = load_policy(source)
+        return policy.config, policy.params
     except UserError as exc:
         text = str(exc)
         raise UserError(f"--from {text}" if text.startswith(source) else f"--from {source}: {text}") from None
@@ -138,8 +139,9 @@ def eval_command(
     from kinetix_cli.rl.agents import load_policy
     from kinetix_cli.rl.evaluate import evaluate, evaluation_record, suite_summary
 
-    config, params, update = load_policy(policy)
-    results = evaluate(config, params, level_paths(levels), attempts, seed, devices)
+    loaded = load_policy(policy)
+    config, update = loaded.config, loaded.update
+    results = evaluate(config, loaded.params, level_paths(levels), attempts, seed, devices)
     table = Table("level", "solve rate", "return", "length")
     for r in results:
         table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")

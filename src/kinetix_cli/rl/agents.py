@@ -18,20 +18,25 @@ called `general-s` still wins.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import os
 from pathlib import Path
 
+import flax.linen as nn
 from flax import serialization
 
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
 from kinetix_cli.constants import AGENT_FORMAT
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.episode import Policy
+from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_folder, atomic_write_json, check_output_dir, read_format
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
 from kinetix_cli.rl.evaluate import read_evaluation
-from kinetix_cli.rl.networks import params_fit
+from kinetix_cli.rl.networks import make_network, params_mismatch, sampling_policy
 
 SHIPPED = Path(__file__).with_name("shipped")
 """The shipped agents' folders, one per name."""
@@ -117,9 +122,8 @@ def read_card(folder: str | Path) -> AgentCard:
     return AgentCard(Path(folder), **{k: card[k] for k in expected})
 
 
-def load_agent(folder: str | Path) -> tuple[ExperimentConfig, object, int]:
+def _read_agent(folder: Path) -> tuple[ExperimentConfig, object, int]:
     """(config, params, update) of an agent folder, both files verified against the card's checksums."""
-    folder = Path(folder)
     card = read_card(folder)
     for name, digest in card.files.items():
         file = folder / name
@@ -134,8 +138,6 @@ def load_agent(folder: str | Path) -> tuple[ExperimentConfig, object, int]:
         params = serialization.msgpack_restore((folder / PARAMS_FILE).read_bytes())
     except Exception as exc:  # msgpack raises several types for bad bytes (checked above, so unlikely)
         raise UserError(f"{folder / PARAMS_FILE}: not a parameter file ({type(exc).__name__})") from None
-    if not params_fit(config, params):
-        raise UserError(f"{folder / PARAMS_FILE}: the parameters do not fit the model in {folder / CONFIG_FILENAME}")
     return config, params, int(card.trained.get("update", 0))
 
 
@@ -152,13 +154,55 @@ def resolve(source: str | os.PathLike) -> Path:
     raise UserError(f"{source}: no such run, checkpoint or agent folder, nor a shipped agent (shipped: {names})")
 
 
-def load_policy(source: str | os.PathLike) -> tuple[ExperimentConfig, object, int]:
-    """(config, params, update) of a run directory (latest checkpoint), a checkpoint folder, an agent folder or
-    a shipped agent's name, verified against its checksums."""
+@dataclasses.dataclass(frozen=True)
+class LoadedPolicy:
+    """A trained policy, loaded, verified and checked against its network: the one way every command that plays
+    a trained policy gets it (`eval`, `rollout`, `report`, `finetune`, the studio).
+
+    Attributes:
+        source: what named it: a run or checkpoint folder, an agent folder or a shipped agent's name.
+        config: the experiment config it was trained with, which fixes its network and its environment settings.
+        params: the network parameters (host arrays).
+        update: the update it was saved at.
+    """
+
+    source: str
+    config: ExperimentConfig
+    params: object
+    update: int
+
+    @functools.cached_property
+    def network(self) -> nn.Module:
+        return make_network(self.config.model, self.config.env)
+
+    @functools.cached_property
+    def act(self) -> Policy:
+        """The episode runner's policy: sample the network's action distribution at every step."""
+        return sampling_policy(self.network, self.params)
+
+    def env_for(self, size: str, origin: str) -> tuple[KinetixEnv, EnvParams]:
+        """The environment this policy plays size-`size` levels in: its run's settings (frame skip, episode cap,
+        shaping, observation, action); `origin` names the level in errors."""
+        return make_env_for_level(self.config.env, size, origin)
+
+
+def load_policy(source: str | os.PathLike) -> LoadedPolicy:
+    """The policy of a run directory (latest checkpoint), a checkpoint folder, an agent folder or a shipped
+    agent's name, verified against its checksums, its parameters checked against its config's network."""
     folder = resolve(source)
     if (folder / AGENT_FILE).is_file():
-        return load_agent(folder)
-    return checkpoints.load_policy(folder)
+        config, params, update = _read_agent(folder)
+        return _checked(str(source), config, params, update, folder / PARAMS_FILE, folder / CONFIG_FILENAME)
+    config, params, where = checkpoints.read_policy(folder)
+    return _checked(str(source), config, params, int(where.name), where, where.parent.parent / CONFIG_FILENAME)
+
+
+def _checked(source: str, config, params, update: int, where: Path, config_file: Path) -> LoadedPolicy:
+    """The policy, once its parameters (read from `where`) are seen to fit the model in `config_file`."""
+    why = params_mismatch(config, params)
+    if why is not None:
+        raise UserError(f"{where}: its parameters do not fit the model in {config_file} ({why})")
+    return LoadedPolicy(source, config, params, update)
 
 
 def export_agent(
@@ -179,7 +223,8 @@ def export_agent(
     out = check_output_dir(out, "-o")
     if out.exists() and any(out.iterdir()) and not (out / AGENT_FILE).is_file():
         raise UserError(f"-o {out}: not empty and not an agent folder; choose a new folder")
-    config, params, update = checkpoints.load_policy(Path(run))
+    config, params, where = checkpoints.read_policy(Path(run))
+    update = _checked(str(run), config, params, int(where.name), where, where.parent.parent / CONFIG_FILENAME).update
     scores = _evaluation(evaluation, Path(run)) if evaluation is not None else {}
     data = {CONFIG_FILENAME: format_config(config).encode(), PARAMS_FILE: serialization.msgpack_serialize(params)}
     trained = {

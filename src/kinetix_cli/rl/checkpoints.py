@@ -33,8 +33,8 @@ from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_json, read_format
 from kinetix_cli.parallel import is_primary, sync
 from kinetix_cli.rl.buffer import LevelBuffer
-from kinetix_cli.rl.networks import params_fit
 from kinetix_cli.rl.ppo import Runner
+from kinetix_cli.rl.trees import tree_mismatch
 
 CHECKPOINTS = "checkpoints"
 KEEP = 3
@@ -76,11 +76,6 @@ def _orbax_log_level(level: int) -> Iterator[None]:
         yield
     finally:
         absl.setLevel(before)
-
-
-def leaf_name(path) -> str:
-    """A tree path as "params/params/Dense_0/kernel" (dataclass fields, dict keys and indices alike)."""
-    return "/".join(str(getattr(k, "name", getattr(k, "key", getattr(k, "idx", k)))) for k in path)
 
 
 def file_digests(step_dir: Path) -> dict[str, str]:
@@ -143,23 +138,11 @@ def _check_fits(step_dir: Path, like) -> None:
     and dtypes of the tree `like`."""
     try:
         metadata = ocp.StandardCheckpointer().metadata(step_dir / "default").item_metadata.tree
-        saved = {
-            leaf_name(p): (tuple(m.shape), np.dtype(m.dtype))
-            for p, m in jax.tree_util.tree_flatten_with_path(metadata)[0]
-        }
     except Exception as exc:  # orbax raises many types for unreadable metadata
         raise UserError(f"{step_dir}: cannot read the checkpoint's metadata ({type(exc).__name__})") from None
-    wanted = {leaf_name(p): (np.shape(x), np.dtype(x.dtype)) for p, x in jax.tree_util.tree_flatten_with_path(like)[0]}
-    for name in sorted(set(saved) | set(wanted)):
-        if saved.get(name) != wanted.get(name):
-            raise UserError(
-                f"{step_dir}: written with other model or PPO settings than this run's config ({name}: "
-                f"{_describe(saved.get(name))} in the checkpoint, {_describe(wanted.get(name))} here)"
-            )
-
-
-def _describe(entry) -> str:
-    return "absent" if entry is None else f"{entry[1]}{list(entry[0])}"
+    why = tree_mismatch(like, metadata)
+    if why is not None:
+        raise UserError(f"{step_dir}: written with other model or PPO settings than this run's config ({why})")
 
 
 def restore_runner(manager: ocp.CheckpointManager, update: int, like: Runner) -> Runner:
@@ -231,14 +214,11 @@ def load_buffer(path: str | Path, placeholder: Level) -> tuple[LevelBuffer, int]
     return serialization.from_state_dict(template, raw["buffer"]), int(where.name)
 
 
-def load_policy(path: str | Path) -> tuple[ExperimentConfig, object, int]:
-    """(config, params, update) from a run directory (latest checkpoint) or one checkpoint folder
-    `RUN/checkpoints/<update>`, verified against the checkpoint's checksums. The parameters come as host numpy
-    arrays, so jitted functions see them exactly as freshly initialised ones (device arrays committed by orbax
-    would be a new signature, and a recompile)."""
+def read_policy(path: str | Path) -> tuple[ExperimentConfig, object, Path]:
+    """(config, params, checkpoint folder) of a run directory (latest checkpoint) or one checkpoint folder
+    `RUN/checkpoints/<update>`, verified against the checkpoint's checksums; whether the parameters fit the
+    config's model is `agents.load_policy`'s check. The parameters come as host numpy arrays, so jitted functions
+    see them exactly as freshly initialised ones (device arrays committed by orbax would be a new signature, and
+    a recompile)."""
     config, raw, where = _restore_raw(Path(path))
-    params = raw["params"]
-    if not params_fit(config, params):
-        config_file = where.parent.parent / CONFIG_FILENAME
-        raise UserError(f"{where}: its parameters do not fit the model in {config_file} (another model's checkpoint?)")
-    return config, params, int(where.name)
+    return config, raw["params"], where

@@ -28,7 +28,6 @@ from collections.abc import Callable
 import flax.linen as nn
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from engine import Scene
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings
@@ -51,6 +50,7 @@ from kinetix_cli.env.observations import (
     used_bindings,
 )
 from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
+from kinetix_cli.rl.trees import tree_mismatch
 
 FEATURE_AXES = {"symbolic-flat": 1, "pixels": 3}
 """Trailing axes of one observation that `FlatMLP` flattens into its input vector."""
@@ -464,16 +464,14 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     return EntityTransformer(width=model.width, num_layers=model.transformer_layers, num_heads=model.heads, **heads)
 
 
-def params_fit(config: ExperimentConfig, params) -> bool:
-    """Whether `params` have the tree and the leaf shapes that the network of `config` initialises."""
+def params_mismatch(config: ExperimentConfig, params) -> str | None:
+    """Why `params` do not fit the network of `config` (the first leaf missing, extra or of another shape or
+    dtype than the network initialises), or None when they fit."""
     env, _ = make_env(config.env)
     static = env.static
     level = make_level(Scene().build_numpy(static), empty_bindings(static.num_joints, static.num_thrusters))
     obs = jax.eval_shape(lambda: env.reset_to_level(level)[0])
-    expected = jax.eval_shape(make_network(config.model, config.env).init, jax.random.key(0), obs)
-    if jax.tree.structure(expected) != jax.tree.structure(params):
-        return False
-    return all(np.shape(a) == b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(expected), strict=True))
+    return tree_mismatch(jax.eval_shape(make_network(config.model, config.env).init, jax.random.key(0), obs), params)
 
 
 def sampling_policy(network: nn.Module, params) -> Policy:

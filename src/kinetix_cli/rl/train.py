@@ -69,6 +69,7 @@ from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
+from kinetix_cli.rl.trees import tree_mismatch
 
 METRICS_FILE = "metrics.jsonl"
 VERSIONS_FILE = "versions.json"
@@ -147,7 +148,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=size)
     origin = f"--from {config.run.init_from}" if init_params is not None else f"run.init_from {config.run.init_from}"
     if init_params is None and config.run.init_from:
-        init_params = load_policy(config.run.init_from)[1]
+        init_params = load_policy(config.run.init_from).params
     if init_params is not None:
         runner = _with_params(runner, replicate(init_params, mesh), settings, origin, config.run.fresh_policy_head)
     start = 0
@@ -290,10 +291,9 @@ def _with_params(runner: Runner, params, settings, origin: str, fresh_policy_hea
     """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match (else an
     error naming `origin`, the flag or key and where the parameters came from). With `fresh_policy_head` the
     actor's output layer keeps the runner's own fresh initialisation."""
-    if jax.tree.structure(params) != jax.tree.structure(runner.params) or any(
-        a.shape != b.shape for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(runner.params), strict=True)
-    ):
-        raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings")
+    why = tree_mismatch(runner.params, params)
+    if why is not None:
+        raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings ({why})")
     params = jax.tree.map(jnp.asarray, params)
     if fresh_policy_head:
         params = _replace_subtrees(params, runner.params, POLICY_HEAD)

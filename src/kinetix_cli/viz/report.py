@@ -27,7 +27,6 @@ import jax
 import numpy as np
 
 from kinetix_cli.constants import CURVES_FORMAT, REPORT_FORMAT, VERSIONS_FORMAT
-from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_folder, atomic_write_json, atomic_write_text, check_output_dir, read_format
 from kinetix_cli.levels.files import load_level
@@ -35,7 +34,6 @@ from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS
 from kinetix_cli.rl.evaluate import read_evaluation
-from kinetix_cli.rl.networks import make_network, sampling_policy
 from kinetix_cli.rl.train import EVALUATIONS, VERSIONS_FILE
 from kinetix_cli.viz.buffer import buffer_levels
 from kinetix_cli.viz.contact_sheet import contact_sheet
@@ -203,32 +201,28 @@ def _episodes(groups, levels, folder: Path, notes: list[str], progress) -> dict[
             notes.append(f"{run.path}: no checkpoint yet; no GIFs of {group.label}'s agent")
             continue
         source = _checkpoint_of(run.path, payload.get("update"))
-        config, params, update = load_policy(source)
-        network = make_network(config.model, config.env)
+        policy = load_policy(source)
         files = [str(e["level"]) for e in payload["levels"] if Path(str(e["level"])).is_file()]
         by_size: dict[str, list] = {}
         for file in files:
             spec = load_level(Path(file))
             by_size.setdefault(spec.default_size(), []).append((file, spec))
         for size, entries in by_size.items():
-            progress(f"report: {group.label}: playing {len(entries)} size-{size} levels (update {update})")
-            env, env_params = make_env_for_level(config.env, size, entries[0][0])
+            progress(f"report: {group.label}: playing {len(entries)} size-{size} levels (update {policy.update})")
+            env, env_params = policy.env_for(size, entries[0][0])
             keys = jax.random.split(jax.random.key(0), len(entries))
-            act = sampling_policy(network, params)
-            played = record_episodes(
-                env, env_params, [spec.build(env.static) for _, spec in entries], act, keys, config.env.max_steps
-            )
+            built = [spec.build(env.static) for _, spec in entries]
+            played = record_episodes(env, env_params, built, policy.act, keys, policy.config.env.max_steps)
             for (file, spec), episode in zip(entries, played, strict=True):
                 gif = f"episodes/{g}-{index[file]}.gif"
                 every = max(1, math.ceil(episode.length / 200))  # at most ~200 frames per GIF
                 frames = episode_frames(spec.name, episode, scale=LEVEL_SCALE, every=every)
                 save_gif(frames, folder / gif, fps=1.0 / (episode.step_seconds * every))
-                ending = "solved" if episode.solved else "failed" if episode.failed else "timed out"
                 episodes.setdefault(file, {})[group.label] = {
                     "gif": gif,
                     "policy": str(source),
-                    "update": update,
-                    "ending": ending,
+                    "update": policy.update,
+                    "ending": episode.ending,
                     "return": episode.total_return,
                     "length": episode.length,
                 }

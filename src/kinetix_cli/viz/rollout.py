@@ -50,6 +50,11 @@ class Episode:
     def total_return(self) -> float:
         return float(self.rewards.sum())
 
+    @property
+    def ending(self) -> str:
+        """How the episode ended: "solved", "failed" or "timed out"."""
+        return "solved" if self.solved else "failed" if self.failed else "timed out"
+
 
 def record_episode(
     env: KinetixEnv, params: EnvParams, level: Level, policy: Policy, key: jax.Array, horizon: int

@@ -18,7 +18,7 @@ from kinetix_cli.cli.app import app
 from kinetix_cli.config import load_config
 from kinetix_cli.errors import UserError
 from kinetix_cli.rl import agents
-from kinetix_cli.rl.checkpoints import load_policy as load_checkpoint
+from kinetix_cli.rl.checkpoints import read_policy
 
 
 @pytest.fixture(scope="module")
@@ -45,10 +45,10 @@ def shipped(monkeypatch, exported):
 
 def test_an_exported_agent_is_the_runs_policy_with_its_card(exported, tiny_run):
     assert sorted(p.name for p in exported.iterdir()) == ["agent.json", "config.yaml", "params.msgpack"]
-    config, params, update = agents.load_policy(exported)
-    run_config, run_params, run_update = load_checkpoint(tiny_run)
-    assert config == run_config and update == run_update == 6
-    jax.tree.map(np.testing.assert_array_equal, params, run_params)
+    policy = agents.load_policy(exported)
+    run_config, run_params, checkpoint = read_policy(tiny_run)
+    assert policy.config == run_config and policy.update == int(checkpoint.name) == 6
+    jax.tree.map(np.testing.assert_array_equal, policy.params, run_params)
     card = agents.read_card(exported)
     assert (card.name, card.version, card.trained["steps"]) == ("tiny-agent", 3, 6 * 64)
     assert card.trained["commands"][0].startswith("kinetix pretrain") and "jax" in json.dumps(card.trained)
@@ -145,7 +145,7 @@ def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
 
 def test_a_run_named_by_a_relative_path_loads(tiny_run, monkeypatch):
     # orbax reads checkpoint metadata only through absolute paths; users type relative ones (runs/NAME)
-    params = load_checkpoint(tiny_run)[1]
+    params = agents.load_policy(tiny_run).params
     monkeypatch.chdir(tiny_run.parent)
-    again = load_checkpoint(tiny_run.name)[1]
+    again = agents.load_policy(tiny_run.name).params
     assert all(np.array_equal(a, b) for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(again), strict=True))

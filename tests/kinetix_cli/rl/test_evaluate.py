@@ -9,7 +9,7 @@ import pytest
 from helpers.levels import FALL
 from helpers.runs import tiny_config
 from kinetix_cli.errors import UserError
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.evaluate import Evaluator, suite_summary
 
 
@@ -25,7 +25,8 @@ def fall_levels(tmp_path_factory):
 def test_episodes_run_at_the_runs_frame_skip_and_the_levels_time_step(tiny_run, fall_levels):
     """The green ball needs the same simulated time to land whatever the policy does, so the episode length in
     environment steps halves with frame skip 4 (the tiny run's) and again with a doubled dt (the level file's)."""
-    config, params, _ = load_policy(tiny_run)
+    policy = load_policy(tiny_run)
+    config, params = policy.config, policy.params
     assert config.env.frame_skip == 4
     lengths = {}
     for frame_skip in (2, 4):
@@ -45,7 +46,7 @@ def test_a_flat_observation_policy_plays_its_own_size_only(fall_levels):
 
 
 def test_suite_summary_means_per_folder(tiny_run, fall_levels):
-    config, params, _ = load_policy(tiny_run)
-    results = Evaluator(config, fall_levels, attempts=2)(params)
+    policy = load_policy(tiny_run)
+    results = Evaluator(policy.config, fall_levels, attempts=2)(policy.params)
     summary = suite_summary(results)
     assert summary["all"]["levels"] == 2 and summary[str(fall_levels[0].parent)]["solve_rate"] == 1.0

@@ -14,9 +14,9 @@ from kinetix_cli.rl import agents
 def test_a_general_agent_per_size_is_shipped_with_its_commands_and_evaluation(size):
     name = f"general-{size}"
     assert name in agents.shipped_names()
-    config, params, update = agents.load_policy(name)  # checksums verified, parameters fit the model
+    policy = agents.load_policy(name)  # checksums verified, parameters fit the model
     card = agents.read_card(agents.SHIPPED / name)
-    assert config.env.size == size and update == card.trained["update"] > 0
+    assert policy.config.env.size == size and policy.update == card.trained["update"] > 0
     assert any(c.startswith("kinetix pretrain") for c in card.trained["commands"])
     assert card.evaluation["attempts"] >= 20
     assert {f"levels/{size}", f".cache/reference-levels/{size}"} <= set(card.evaluation["suites"])
@@ -31,7 +31,7 @@ def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
 
 
 def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
-    config = agents.load_policy("general-s")[0]
+    config = agents.load_policy("general-s").config
     assert agents.read_card(agents.SHIPPED / "general-s").version == 2
     recipe = load_config(EXPERIMENTS / "general.yaml", ["run.eval_levels=[.cache/reference-levels/s]"])
     assert config == recipe

@@ -18,7 +18,7 @@ from kinetix_cli.constants import EVAL_FORMAT
 from kinetix_cli.env.level import level_count
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import read_format
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.evaluate import evaluate
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import finetune_config, train
@@ -43,7 +43,7 @@ def test_resume_after_a_crash_matches_an_uninterrupted_run(tmp_path, tiny_run, t
     assert sorted(p.name for p in (tmp_path / "cut" / "checkpoints").iterdir()) == ["2"]
     resumed = train(config, tmp_path / "cut", resume=True, pool=tiny_pool)
 
-    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run)[1], resumed.params)
+    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run).params, resumed.params)
     lines, whole = metrics(tmp_path / "cut"), metrics(tiny_run)
     assert [x["update"] for x in lines] == [1, 2, 3, 4, 5, 6]
     assert {"steps", "sps", "return", "solve_rate", "policy_loss", "value_loss", "entropy"} <= set(lines[0])
@@ -69,13 +69,14 @@ def test_a_wall_clock_budget_ends_the_run_as_its_last_update_would(tmp_path, tin
         train(tiny_config("run.minutes=1e-9", "run.seed=1"), run_dir, resume=True, pool=tiny_pool)
     extended = train(tiny_config("run.minutes=1000"), run_dir, resume=True, pool=tiny_pool)  # a larger budget
     assert [x["update"] for x in metrics(run_dir)] == [1, 2, 3, 4, 5, 6]
-    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run)[1], extended.params)  # as if never stopped
+    jax.tree.map(np.testing.assert_array_equal, load_policy(tiny_run).params, extended.params)  # as if never stopped
 
 
 def test_evaluation_during_training_is_kinetix_eval_of_the_parameters(tiny_run):
-    config, params, update = load_policy(tiny_run)
-    assert update == 6 and config == tiny_config()
-    (result,) = evaluate(config, params, [EVAL_LEVEL], config.run.eval_attempts, seed=config.run.seed)
+    policy = load_policy(tiny_run)
+    config = policy.config
+    assert policy.update == 6 and config == tiny_config()
+    (result,) = evaluate(config, policy.params, [EVAL_LEVEL], config.run.eval_attempts, seed=config.run.seed)
     last = metrics(tiny_run)[-1]
     assert last["eval_solve_rate"] == result.solve_rate and last["eval_return"] == result.mean_return
     # each evaluation's per-level record, as `kinetix eval --json` writes it
@@ -127,7 +128,7 @@ def test_init_from_loads_the_checkpoint_parameters(tmp_path, tiny_run, tiny_pool
     def distance(a, b):
         return max(float(np.abs(x - y).max()) for x, y in zip(jax.tree.leaves(a), jax.tree.leaves(b), strict=True))
 
-    loaded = load_policy(tiny_run)[1]
+    loaded = load_policy(tiny_run).params
     tuned = train(tiny_config(f"run.init_from={tiny_run}"), tmp_path / "a", pool=tiny_pool)
     fresh = train(tiny_config("run.seed=1"), tmp_path / "b", pool=tiny_pool)
     # six Adam updates move each weight by about 6 lr = 2e-3; another seed's initialisation is far away
@@ -139,7 +140,7 @@ def test_a_fresh_policy_head_forgets_the_loaded_habit_and_keeps_the_rest(tmp_pat
         heads = params["params"]["ActorCriticHeads_0"]
         return {**params["params"], "ActorCriticHeads_0": {k: v for k, v in heads.items() if k != "actor_head"}}
 
-    loaded = load_policy(tiny_run)[1]
+    loaded = load_policy(tiny_run).params
     heads = loaded["params"]["ActorCriticHeads_0"]
     confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}  # a strong habit
     habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0

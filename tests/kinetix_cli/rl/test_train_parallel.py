@@ -25,7 +25,7 @@ import pytest
 from helpers.processes import FORCE_2, TIMEOUT, finish, process_env, processes, run_ok, start
 from helpers.runs import SFL, TINY, set_args, sfl_config
 from kinetix_cli.parallel import PEER_LOST_EXIT
-from kinetix_cli.rl.checkpoints import load_policy
+from kinetix_cli.rl.agents import load_policy
 
 pytestmark = pytest.mark.xdist_group("train-parallel")  # one worker makes the module's runs
 
@@ -59,7 +59,7 @@ def two_process_run(tmp_path_factory, env):
 
 def params(path: Path) -> list[np.ndarray]:
     """The parameters of a run's latest checkpoint, or of one checkpoint folder."""
-    return jax.tree.leaves(load_policy(path)[1])
+    return jax.tree.leaves(load_policy(path).params)
 
 
 def metrics(run_dir: Path, updates: int | None = None) -> list[dict]:
