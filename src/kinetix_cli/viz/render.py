@@ -24,29 +24,24 @@ from collections.abc import Sequence
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from engine import ARENA_LEFT, ARENA_RIGHT, ARENA_TOP, NUM_ARENA_POLYGONS
-from kinetix_cli.constants import ACTION_WIDTH, NEUTRAL, NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS
-from kinetix_cli.env.colours import (
-    AUTO_MOTOR_COLOUR,
-    BACKGROUND,
-    FIXED_NEUTRAL,
-    FIXED_ROLE_SCALE,
-    MOTOR_COLOURS,
-    ROLE_COLOURS,
-    THRUSTER_COLOURS,
-    Colour,
-)
+from kinetix_cli.env.colours import BACKGROUND, Colour
 from kinetix_cli.io import atomic_write
+from kinetix_cli.viz.scene import (
+    VIEW_X,
+    VIEW_Y,
+    Joint,
+    Scene,
+    Shape,
+    Thruster,
+    describe_scene,
+    mix,
+    rotate,
+    scaled,
+)
 
-VIEW_X = (-0.1, 5.1)
-"""World x range shown [m]."""
-VIEW_Y = (0.0, 5.1)
-"""World y range shown [m]."""
 SUPERSAMPLE = 3
 """World geometry is drawn this many times larger, then downscaled."""
 
-WALL_FILL: Colour = (225, 225, 225)
-WALL_LINE: Colour = (50, 50, 50)
 FLAME_CORE: Colour = (255, 245, 170)
 HEADER_FILL: Colour = (244, 244, 244)
 TEXT: Colour = (20, 20, 20)
@@ -85,12 +80,6 @@ def _font_size(scale: float) -> int:
 
 def _pad(font_size: int) -> int:
     return max(2, font_size // 3)
-
-
-def _rotate(v: np.ndarray, angle: float) -> np.ndarray:
-    """Rotate (..., 2) vectors counter-clockwise by `angle` [rad]."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
 class _Canvas:
@@ -135,140 +124,15 @@ class _Canvas:
         self.draw.line([self.px(a), self.px(b)], fill=colour, width=self.width(thickness_m))
 
 
-# --- colours -------------------------------------------------------------------------------------
-def _scaled(colour: Colour, factor: float) -> Colour:
-    return tuple(int(round(min(255.0, c * factor))) for c in colour)
-
-
-def _mix(a: Colour, b: Colour, t: float) -> Colour:
-    """(1 - t) a + t b."""
-    return tuple(int(round((1 - t) * x + t * y)) for x, y in zip(a, b, strict=True))
-
-
-def body_fill(role: int, fixed: bool) -> Colour:
-    """Fill colour of a shape: role colour; fixed neutral (80, 80, 80); fixed with a role: role colour x 0.5."""
-    if not fixed:
-        return ROLE_COLOURS[role]
-    return FIXED_NEUTRAL if role == NEUTRAL else _scaled(ROLE_COLOURS[role], FIXED_ROLE_SCALE)
-
-
-def _outline(fill: Colour) -> Colour:
-    return _scaled(fill, 0.45)
-
-
-def motor_colour(binding: int, auto: bool) -> Colour:
-    """Ring colour of a motorised revolute joint: per binding 0..3, or the auto colour."""
-    return AUTO_MOTOR_COLOUR if auto else MOTOR_COLOURS[binding % NUM_MOTOR_BINDINGS]
-
-
-def _motor_label(binding: int, auto: bool) -> str:
-    return "A" if auto else f"M{binding}"
-
-
-# --- scene data ----------------------------------------------------------------------------------
-def _host(tree) -> dict[str, np.ndarray]:
-    """A flax dataclass's fields as numpy arrays."""
-    return {name: np.asarray(getattr(tree, name)) for name in tree.__dataclass_fields__}
-
-
-def _check_single_scene(bodies: dict[str, np.ndarray]) -> None:
-    if bodies["position"].ndim != 2:
-        raise ValueError(f"render_frame draws one scene: body positions must be (N, 2), got {bodies['position'].shape}")
-
-
-def _actions(actions) -> np.ndarray | None:
-    """The 6 binding actions (4 motor in [-1, 1], 2 thruster in [0, 1]) as float64, or None."""
-    if actions is None:
-        return None
-    values = np.asarray(actions, dtype=np.float64).reshape(-1)
-    if values.shape != (ACTION_WIDTH,):
-        raise ValueError(f"actions: need {ACTION_WIDTH} values, got {values.shape}")
-    return values
-
-
-def _motor_action(actions: np.ndarray | None, binding: int, auto: bool) -> float | None:
-    """The action driving a motor [-1, 1]; None when no actions are given."""
-    if actions is None:
-        return None
-    return 1.0 if auto else float(np.clip(actions[binding % NUM_MOTOR_BINDINGS], -1, 1))
-
-
-def _thruster_action(actions: np.ndarray | None, binding: int) -> float | None:
-    """The action driving a thruster [0, 1]; None when no actions are given."""
-    if actions is None:
-        return None
-    return float(np.clip(actions[NUM_MOTOR_BINDINGS + binding % NUM_THRUSTER_BINDINGS], 0, 1))
-
-
-def _body_point(bodies: dict[str, np.ndarray], slot: int, local: np.ndarray) -> np.ndarray:
-    """World point [m] of a point given in the body frame of `slot` [m]."""
-    return bodies["position"][slot].astype(np.float64) + _rotate(local.astype(np.float64), float(bodies["angle"][slot]))
-
-
-# --- arena ---------------------------------------------------------------------------------------
-def _box(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
-    """Corners (4, 2) [m] of the axis-aligned box [x0, x1] x [y0, y1]."""
-    return np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], dtype=np.float64)
-
-
-def _wall_strips() -> tuple[tuple[int, np.ndarray, tuple], ...]:
-    """(body slot, visible strip outside the arena (4, 2) [m], inner face segment [m]) of each wall and the ceiling."""
-    (x_lo, x_hi), (y_lo, y_hi) = VIEW_X, VIEW_Y
-    return (
-        (1, _box(x_lo, y_lo, ARENA_LEFT, y_hi), ((ARENA_LEFT, y_lo), (ARENA_LEFT, ARENA_TOP))),
-        (2, _box(ARENA_RIGHT, y_lo, x_hi, y_hi), ((ARENA_RIGHT, y_lo), (ARENA_RIGHT, ARENA_TOP))),
-        (3, _box(x_lo, ARENA_TOP, x_hi, y_hi), ((x_lo, ARENA_TOP), (x_hi, ARENA_TOP))),
-    )
-
-
-def _draw_arena(canvas: _Canvas, bodies: dict[str, np.ndarray]) -> None:
-    """Active walls and ceiling as light strips with a dark inner face, then the floor polygon (slot 0) in
-    its role colour, or the fixed colour when neutral."""
-    for slot, strip, (a, b) in _wall_strips():
-        if not bodies["active"][slot]:
-            continue
-        role = int(bodies["role"][slot])
-        fill = WALL_FILL if role == NEUTRAL else _mix(ROLE_COLOURS[role], BACKGROUND, 0.3)
-        line = WALL_LINE if role == NEUTRAL else _outline(ROLE_COLOURS[role])
-        canvas.polygon(strip, fill, None, 0)
-        canvas.segment(a, b, line, 0.02)
-    if bodies["active"][0]:
-        role = int(bodies["role"][0])
-        _draw_polygon_body(canvas, bodies, 0, FIXED_NEUTRAL if role == NEUTRAL else ROLE_COLOURS[role])
-
-
-# --- bodies --------------------------------------------------------------------------------------
-def _draw_polygon_body(canvas: _Canvas, bodies: dict[str, np.ndarray], slot: int, fill: Colour) -> None:
-    n = int(bodies["num_vertices"][slot])
-    world = _body_point(bodies, slot, bodies["vertices"][slot, :n])
-    canvas.polygon(world, fill, _outline(fill), _OUTLINE_M)
-
-
-def _draw_circle_body(canvas: _Canvas, bodies: dict[str, np.ndarray], slot: int, fill: Colour) -> None:
-    """A disc with a radius line from the centre along the body's x axis, so its rotation shows."""
-    centre = bodies["position"][slot].astype(np.float64)
-    radius = float(bodies["radius"][slot])
-    line = _outline(fill)
-    canvas.circle(centre, radius, fill, line, _OUTLINE_M)
-    tip = _body_point(bodies, slot, np.array([radius - _OUTLINE_M / 2, 0.0]))
-    canvas.segment(centre, tip, line, _OUTLINE_M)
-
-
-def _draw_bodies(canvas: _Canvas, bodies: dict[str, np.ndarray]) -> None:
-    """Every active shape past the arena: fixed ones first, so movable shapes show on top of them."""
-    slots = [s for s in range(NUM_ARENA_POLYGONS, len(bodies["active"])) if bodies["active"][s]]
-    for slot in sorted(slots, key=lambda s: not bodies["fixed"][s]):
-        fill = body_fill(int(bodies["role"][slot]), bool(bodies["fixed"][slot]))
-        if bodies["num_vertices"][slot] > 0:
-            _draw_polygon_body(canvas, bodies, slot, fill)
-        else:
-            _draw_circle_body(canvas, bodies, slot, fill)
-
-
-# --- joints --------------------------------------------------------------------------------------
-def joint_anchor(bodies: dict[str, np.ndarray], joints: dict[str, np.ndarray], j: int) -> np.ndarray:
-    """World anchor [m] of joint `j`: position[body_a] + rotate(anchor_a, angle[body_a])."""
-    return _body_point(bodies, int(joints["body_a"][j]), joints["anchor_a"][j])
+# --- the scene -----------------------------------------------------------------------------------
+def _draw_shape(canvas: _Canvas, shape: Shape) -> None:
+    """A polygon, or a disc with a radius line from the centre along the body's x axis, so its rotation shows."""
+    if shape.points is not None:
+        canvas.polygon(shape.points, shape.fill, shape.line, _OUTLINE_M)
+        return
+    canvas.circle(shape.centre, shape.radius, shape.fill, shape.line, _OUTLINE_M)
+    tip = shape.centre + rotate(np.array([shape.radius - _OUTLINE_M / 2, 0.0]), shape.angle)
+    canvas.segment(shape.centre, tip, shape.line, _OUTLINE_M)
 
 
 def _draw_curved_arrow(canvas: _Canvas, centre: np.ndarray, action: float, colour: Colour) -> None:
@@ -289,49 +153,31 @@ def _draw_curved_arrow(canvas: _Canvas, centre: np.ndarray, action: float, colou
     canvas.polygon(np.asarray(head), colour, None, 0)
 
 
-def _draw_revolute(canvas: _Canvas, anchor: np.ndarray, colour: Colour | None, action: float | None) -> None:
-    """A ring at `anchor`: filled with the motor colour (white without a motor), a halo and a curved
-    arrow when its motor is running."""
+def _draw_joint(canvas: _Canvas, joint: Joint) -> None:
+    """Fixed: a small white square with a dark cross. Revolute: a ring filled with the motor colour (white
+    without a motor), with a halo and a curved arrow when its motor is running."""
+    anchor = joint.anchor
+    if joint.fixed:
+        h = _FIXED_JOINT_M
+        square = anchor + np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
+        canvas.polygon(square, (255, 255, 255), (20, 20, 20), 0.012)
+        canvas.segment(square[0], square[2], (20, 20, 20), 0.012)
+        canvas.segment(square[1], square[3], (20, 20, 20), 0.012)
+        return
+    colour, action = joint.colour, joint.action
     if colour is not None and action is not None and abs(action) > _ACTIVE_THRESHOLD:
-        canvas.circle(anchor, _JOINT_RING_M * 1.9, _mix(colour, BACKGROUND, 0.55), None, 0)
-        _draw_curved_arrow(canvas, anchor, action, _scaled(colour, 0.8))
+        canvas.circle(anchor, _JOINT_RING_M * 1.9, mix(colour, BACKGROUND, 0.55), None, 0)
+        _draw_curved_arrow(canvas, anchor, action, scaled(colour, 0.8))
     ring = (255, 255, 255) if colour is None else colour
     canvas.circle(anchor, _JOINT_RING_M, ring, (20, 20, 20), 0.014)
     canvas.circle(anchor, _JOINT_RING_M * 0.35, (255, 255, 255), (20, 20, 20), 0.01)
 
 
-def _draw_fixed_joint(canvas: _Canvas, anchor: np.ndarray) -> None:
-    """A small white square with a dark cross at `anchor`."""
-    h = _FIXED_JOINT_M
-    square = anchor + np.array([[-h, -h], [h, -h], [h, h], [-h, h]])
-    canvas.polygon(square, (255, 255, 255), (20, 20, 20), 0.012)
-    canvas.segment(square[0], square[2], (20, 20, 20), 0.012)
-    canvas.segment(square[1], square[3], (20, 20, 20), 0.012)
-
-
-def _draw_joints(canvas, bodies, joints, bindings, actions) -> list[tuple[np.ndarray, str, Colour]]:
-    """Draw every active joint; return the labels (world anchor, text, colour) of the motorised ones."""
-    labels = []
-    for j in np.flatnonzero(joints["active"]):
-        anchor = joint_anchor(bodies, joints, j)
-        if joints["fixed"][j]:
-            _draw_fixed_joint(canvas, anchor)
-            continue
-        if not joints["motor_on"][j]:
-            _draw_revolute(canvas, anchor, None, None)
-            continue
-        binding, auto = int(bindings["motor"][j]), bool(bindings["motor_auto"][j])
-        colour = motor_colour(binding, auto)
-        _draw_revolute(canvas, anchor, colour, _motor_action(actions, binding, auto))
-        labels.append((anchor, _motor_label(binding, auto), colour))
-    return labels
-
-
-# --- thrusters -----------------------------------------------------------------------------------
-def _draw_thruster(canvas: _Canvas, anchor: np.ndarray, push: float, colour: Colour, action: float | None) -> None:
-    """A nozzle at `anchor` opening away from the push direction `push` [rad]; a flame whose length
-    grows with the action comes out of it when the thruster fires."""
-    forward = np.array([math.cos(push), math.sin(push)])
+def _draw_thruster(canvas: _Canvas, thruster: Thruster) -> None:
+    """A nozzle at the anchor opening away from the push direction; a flame whose length grows with the
+    action comes out of it when the thruster fires."""
+    anchor, colour, action = thruster.anchor, thruster.colour, thruster.action
+    forward = np.array([math.cos(thruster.push), math.sin(thruster.push)])
     side = np.array([-forward[1], forward[0]])
     if action is not None and action > _ACTIVE_THRESHOLD:
         length = _NOZZLE_LENGTH_M + _FLAME_LENGTH_M * action
@@ -345,7 +191,7 @@ def _draw_thruster(canvas: _Canvas, anchor: np.ndarray, push: float, colour: Col
             anchor - 0.6 * length * forward,
             anchor - 0.4 * _NOZZLE_WIDTH_M * side,
         ]
-        canvas.polygon(np.asarray(outer), _mix(colour, (255, 60, 0), 0.3), None, 0)
+        canvas.polygon(np.asarray(outer), mix(colour, (255, 60, 0), 0.3), None, 0)
         canvas.polygon(np.asarray(core), FLAME_CORE, None, 0)
     half = _NOZZLE_WIDTH_M / 2
     nozzle = [anchor + 0.35 * half * side, anchor - _NOZZLE_LENGTH_M * forward + half * side]
@@ -353,20 +199,22 @@ def _draw_thruster(canvas: _Canvas, anchor: np.ndarray, push: float, colour: Col
     canvas.polygon(np.asarray(nozzle), colour, (20, 20, 20), 0.012)
 
 
-def _draw_thrusters(canvas, bodies, thrusters, bindings, actions) -> list[tuple[np.ndarray, str, Colour]]:
-    """Draw every active thruster on an active body; return their labels (world anchor, text, colour)."""
+def _draw_scene(canvas: _Canvas, scene: Scene) -> list[tuple[np.ndarray, str, Colour]]:
+    """Paint the scene back to front; return the actuator labels (world point, text, colour)."""
+    for wall in scene.walls:
+        canvas.polygon(wall.strip, wall.fill, None, 0)
+        canvas.segment(wall.face[0], wall.face[1], wall.line, 0.02)
+    for shape in scene.shapes:
+        _draw_shape(canvas, shape)
     labels = []
-    for t in np.flatnonzero(thrusters["active"]):
-        slot = int(thrusters["body"][t])
-        if not bodies["active"][slot]:
-            continue
-        anchor = _body_point(bodies, slot, thrusters["anchor"][t])
-        push = float(bodies["angle"][slot]) + float(thrusters["angle"][t])
-        binding = int(bindings["thruster"][t]) % NUM_THRUSTER_BINDINGS
-        colour = THRUSTER_COLOURS[binding]
-        _draw_thruster(canvas, anchor, push, colour, _thruster_action(actions, binding))
-        back = anchor - (_NOZZLE_LENGTH_M + 0.04) * np.array([math.cos(push), math.sin(push)])
-        labels.append((back, f"T{binding}", colour))
+    for joint in scene.joints:
+        _draw_joint(canvas, joint)
+        if joint.label is not None:
+            labels.append((joint.anchor, joint.label, joint.colour))
+    for thruster in scene.thrusters:
+        _draw_thruster(canvas, thruster)
+        forward = np.array([math.cos(thruster.push), math.sin(thruster.push)])
+        labels.append((thruster.anchor - (_NOZZLE_LENGTH_M + 0.04) * forward, thruster.label, thruster.colour))
     return labels
 
 
@@ -389,32 +237,12 @@ def _draw_labels(canvas: _Canvas, labels: list[tuple[np.ndarray, str, Colour]], 
         canvas.draw.text(
             (x + offset, y - offset),
             text,
-            fill=_scaled(colour, 0.6),
+            fill=scaled(colour, 0.6),
             font=font,
             anchor="ld",
             stroke_width=2,
             stroke_fill=(255, 255, 255),
         )
-
-
-def _legend_entries(joints, bindings, thrusters, actions) -> list[tuple[str, Colour]]:
-    """(text, colour) per binding used by an active actuator, motors first; with the action when given."""
-    motors: dict[str, Colour] = {}
-    for j in np.flatnonzero(joints["active"] & joints["motor_on"] & ~joints["fixed"]):
-        binding, auto = int(bindings["motor"][j]), bool(bindings["motor_auto"][j])
-        key = _motor_label(binding, auto)
-        motors[key] = motor_colour(binding, auto)
-    entries = []
-    for key in sorted(motors, key=lambda k: (k == "A", k)):
-        text = key
-        if actions is not None and key != "A":
-            text = f"{key} {actions[int(key[1])]:+.1f}"
-        entries.append((text, motors[key]))
-    used = sorted({int(b) % NUM_THRUSTER_BINDINGS for b in bindings["thruster"][thrusters["active"]]})
-    for binding in used:
-        text = f"T{binding}" if actions is None else f"T{binding} {actions[NUM_MOTOR_BINDINGS + binding]:.1f}"
-        entries.append((text, THRUSTER_COLOURS[binding]))
-    return entries
 
 
 def _legend_width(draw: ImageDraw.ImageDraw, entries: list[tuple[str, Colour]], font, size: int, pad: int) -> float:
@@ -432,7 +260,7 @@ def _draw_legend(
         x -= draw.textlength(text, font=font)
         draw.text((x, y_mid), text, fill=TEXT, font=font, anchor="lm")
         x -= box + pad
-        draw.rectangle((x, y_mid - box / 2, x + box, y_mid + box / 2), fill=colour, outline=_scaled(colour, 0.5))
+        draw.rectangle((x, y_mid - box / 2, x + box, y_mid + box / 2), fill=colour, outline=scaled(colour, 0.5))
         x -= 2 * pad
 
 
@@ -493,24 +321,17 @@ def render_frame(
     """
     if not scale > 0:
         raise ValueError(f"scale must be > 0 px/m, got {scale}")
-    bodies, joints, thrusters = _host(physics.bodies), _host(physics.joints), _host(physics.thrusters)
-    binds = _host(bindings)
-    _check_single_scene(bodies)
-    acts = _actions(actions)
-
+    scene = describe_scene(physics, bindings, actions)
     world_w, world_h = _world_size(scale)
     big = Image.new("RGB", (world_w * SUPERSAMPLE, world_h * SUPERSAMPLE), BACKGROUND)
     canvas = _Canvas(big, scale * SUPERSAMPLE)
-    _draw_arena(canvas, bodies)
-    _draw_bodies(canvas, bodies)
-    labels = _draw_joints(canvas, bodies, joints, binds, acts)
-    labels += _draw_thrusters(canvas, bodies, thrusters, binds, acts)
+    labels = _draw_scene(canvas, scene)
 
     image = Image.new("RGB", frame_size(scale), BACKGROUND)
     top = header_height(scale)
     image.paste(big.resize((world_w, world_h), Image.Resampling.LANCZOS), (0, top))
     _draw_labels(_Canvas(image, scale, y_offset=top), labels, _font_size(scale))
-    _draw_header(image, scale, title, caption, _legend_entries(joints, binds, thrusters, acts))
+    _draw_header(image, scale, title, caption, scene.legend)
     return image
 
 
