@@ -11,7 +11,7 @@ from pathlib import Path
 import typer
 from rich.table import Table
 
-from kinetix_cli.cli import figures, generate, levels, train
+from kinetix_cli.cli import figures, generate, levels, studio, train
 from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
 from kinetix_cli.cli.console import console, say, show_warning
@@ -22,6 +22,7 @@ app.add_typer(levels.commands)
 app.add_typer(generate.commands)
 app.add_typer(train.commands)
 app.add_typer(figures.commands)
+app.add_typer(studio.commands)
 app.add_typer(levels.levels_app, name="levels")
 app.add_typer(bench_app, name="bench")
 app.add_typer(agents_app, name="agents")

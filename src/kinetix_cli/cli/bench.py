@@ -10,6 +10,7 @@ from rich.table import Table
 
 from kinetix_cli.cli.console import console, int_list, name_list
 from kinetix_cli.constants import INT32_MAX
+from kinetix_cli.errors import UserError
 from kinetix_cli.io import check_output_file
 
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
@@ -169,6 +170,34 @@ def bench_generate_command(
     )
     console.print(table)
     _write_bench_json(json_path, config, [r])
+
+
+@bench_app.command("studio")
+def bench_studio_command(
+    sizes: str = typer.Option("s,m,l", help="Comma-separated level sizes."),
+    steps: int = typer.Option(300, min=10, max=10**5, help="Play steps timed per size."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the generated levels and random actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """The level studio's play loop: one step's HTTP round trip on localhost and the frames per second it allows."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
+    from kinetix_cli.studio.latency import StudioBenchConfig, bench_studio
+
+    chosen = name_list(sizes)
+    if not chosen or not set(chosen) <= {"s", "m", "l"}:
+        raise UserError(f"--sizes: expected sizes among s, m, l separated by commas, got {sizes!r}")
+    config = StudioBenchConfig(sizes=tuple(chosen), steps=steps, seed=seed)
+    table = Table("size", "compile [s]", "round trip median [ms]", "p90 [ms]", "in server [ms]", "frames/s")
+
+    def report(r):
+        table.add_row(
+            r.size, f"{r.compile_s:.1f}", f"{r.median_ms:.1f}", f"{r.p90_ms:.1f}", f"{r.server_ms:.1f}", f"{r.fps:.0f}"
+        )
+
+    results = bench_studio(config, report)
+    console.print(table)
+    _write_bench_json(json_path, config, results)
 
 
 def _write_bench_json(json_path: Path | None, config, results) -> None:

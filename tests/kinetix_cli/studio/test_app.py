@@ -1,0 +1,183 @@
+"""The level studio's HTTP API through Starlette's test client: the token, path escapes, malformed and oversized
+requests, checking, saving, playing a level to a solution that `kinetix validate --play` accepts, and watching and
+evaluating a trained agent."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+from starlette.testclient import TestClient
+
+from helpers.paths import REPO
+from kinetix_cli.errors import LevelError
+from kinetix_cli.levels.files import load_level
+from kinetix_cli.levels.parse import parse_level
+from kinetix_cli.levels.solution import check_level, decode_solution
+from kinetix_cli.studio.app import MAX_BODY, TOKEN_HEADER, create_app
+from kinetix_cli.studio.service import Studio
+
+TOKEN = "test-token"
+AUTH = {TOKEN_HEADER: TOKEN}
+LEVEL = "rocket-car-jump.json"
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    """The studio's folder: one shipped level, one file that is not UTF-8, and a link to a file outside."""
+    root = tmp_path_factory.mktemp("studio")
+    shutil.copy(REPO / "levels" / "s" / LEVEL, root / LEVEL)
+    (root / "latin1.json").write_bytes(b'{"name": "caf\xe9"}')
+    outside = tmp_path_factory.mktemp("outside") / "secret.json"
+    outside.write_text(json.dumps({"secret": 1}))
+    (root / "link.json").symlink_to(outside)
+    return root
+
+
+@pytest.fixture(scope="module")
+def client(folder):
+    return TestClient(create_app(Studio(folder), TOKEN))
+
+
+@pytest.fixture(scope="module")
+def level(client):
+    return client.get("/api/level", params={"path": LEVEL}, headers=AUTH).json()["level"]
+
+
+def test_every_request_needs_the_sessions_token(client):
+    assert client.get("/api/files").status_code == 403
+    assert client.get("/api/files", headers={TOKEN_HEADER: "guess"}).status_code == 403
+    assert client.post("/api/check", json={"level": {}}, headers={TOKEN_HEADER: "guess"}).status_code == 403
+    fresh = TestClient(client.app)  # no cookie yet
+    assert fresh.get("/").status_code == 403 and fresh.get("/static/studio.js").status_code == 403
+    page = fresh.get("/", params={"token": TOKEN})
+    assert page.status_code == 200 and f'content="{TOKEN}"' in page.text
+    assert fresh.get("/static/studio.js").status_code == 200  # the page's files, by the cookie the page set
+    assert fresh.get("/api/files").status_code == 403  # the API wants the header, which other sites cannot send
+    assert "frame-ancestors 'none'" in page.headers["content-security-policy"]
+
+
+def test_paths_stay_inside_the_folder(client, folder, level):
+    for path in ("../x.json", "/etc/passwd", "a/../../x.json", "link.json"):
+        answer = client.get("/api/level", params={"path": path}, headers=AUTH)
+        assert answer.status_code == 403, path
+        saved = client.post("/api/save", json={"path": path, "level": level, "overwrite": True}, headers=AUTH)
+        assert saved.status_code == 403 and "outside the studio's folder" in saved.json()["error"]
+    assert json.loads((folder / "link.json").read_text()) == {"secret": 1}
+    assert not (folder.parent / "x.json").exists()
+    agent = client.post("/api/watch", json={"level": level, "agent": "../runs/tiny"}, headers=AUTH)
+    assert agent.status_code == 403
+
+
+def test_malformed_and_oversized_requests_are_4xx_and_the_server_goes_on(client, level):
+    bad = [
+        (b"{not json", 400, "not valid JSON"),
+        (b"\xff\xfe", 400, "not UTF-8"),
+        (b"[1, 2]", 400, "expected a JSON object"),
+        (b"{}", 400, "level: missing"),
+        (b" " * (MAX_BODY + 1), 413, "at most"),
+    ]
+    for body, status, message in bad:
+        answer = client.post("/api/check", content=body, headers=AUTH)
+        assert answer.status_code == status and message in answer.json()["error"], body[:20]
+    step = client.post("/api/play/step", json={"play": "nope", "action": [0] * 6}, headers=AUTH)
+    assert step.status_code == 404
+    started = client.post("/api/play/start", json={"level": level}, headers=AUTH).json()
+    for action in ([3, 0, 0, 0, 0, 0], [0] * 5, "left", [True, 0, 0, 0, 0, 0]):
+        answer = client.post("/api/play/step", json={"play": started["play"], "action": action}, headers=AUTH)
+        assert answer.status_code == 400 and answer.json()["error"].startswith("action:")
+    assert client.post("/api/check", json={"level": level}, headers=AUTH).json()["ok"]
+
+
+def test_a_check_says_what_kinetix_validate_says_on_the_entity_and_field(client, level):
+    good = client.post("/api/check", json={"level": level}, headers=AUTH).json()
+    assert good["ok"] and good["size"] == "s" and len(good["slots"]) == len(level["bodies"])
+    shapes = {s["slot"]: s for s in good["scene"]["shapes"]}
+    assert shapes[good["slots"][0]]["fill"] == [0, 204, 0]  # the green chassis, in render's colours
+    assert [text for text, _ in good["scene"]["legend"]] == ["M2", "T1"]
+    broken = json.loads(json.dumps(level))
+    broken["bodies"][1]["radius"] = -1
+    answer = client.post("/api/check", json={"level": broken}, headers=AUTH).json()
+    with pytest.raises(LevelError) as validate:
+        parse_level(broken, "level")
+    assert not answer["ok"] and f"level: {answer['error']}" == str(validate.value)
+    assert (answer["entity"], answer["field"]) == ("bodies[1]", "radius")
+
+
+def test_files_are_listed_and_bad_ones_named(client):
+    files = {f["path"]: f for f in client.get("/api/files", headers=AUTH).json()["files"]}
+    assert files[LEVEL]["valid"] and files[LEVEL]["name"] == "rocket car jump"
+    assert not files["latin1.json"]["valid"] and "not UTF-8" in files["latin1.json"]["error"]
+    assert "link.json" not in files
+    answer = client.get("/api/level", params={"path": "latin1.json"}, headers=AUTH)
+    assert answer.status_code == 422 and answer.json()["error"] == "latin1.json: not UTF-8 text (byte 13)"
+    thumbnail = client.get("/api/thumbnail", params={"path": LEVEL}, headers=AUTH)
+    assert thumbnail.headers["content-type"] == "image/png" and thumbnail.content[:4] == b"\x89PNG"
+
+
+def test_saving_never_overwrites_without_confirmation_nor_a_valid_level_with_a_draft(client, folder, level):
+    before = (folder / LEVEL).read_bytes()
+    answer = client.post("/api/save", json={"path": LEVEL, "level": level}, headers=AUTH)
+    assert answer.status_code == 409 and "confirm" in answer.json()["error"]
+    draft = level | {"bodies": []}  # invalid: a level needs bodies
+    answer = client.post("/api/save", json={"path": LEVEL, "level": draft, "overwrite": True}, headers=AUTH)
+    assert answer.status_code == 409 and "invalid draft" in answer.json()["error"]
+    assert (folder / LEVEL).read_bytes() == before
+    kept = client.post("/api/save", json={"path": "drafts/wip.json", "level": draft}, headers=AUTH).json()
+    assert kept == {"path": "drafts/wip.json", "valid": False, "error": kept["error"]} and kept["error"]
+    assert json.loads((folder / "drafts" / "wip.json").read_text()) == draft
+    answer = client.post("/api/save", json={"path": "drafts/wip.txt", "level": level}, headers=AUTH)
+    assert answer.status_code == 400
+
+
+def test_a_played_episode_that_solves_the_level_becomes_its_solution(client, folder, level):
+    started = client.post("/api/play/start", json={"level": level}, headers=AUTH).json()
+    assert started["step"] == 0 and started["ending"] is None
+    kept = client.post("/api/play/solution", json={"play": started["play"], "level": level}, headers=AUTH)
+    assert kept.status_code == 409  # not solved yet
+    actions = decode_solution(level["solution"], LEVEL, 256)
+    for action in actions:
+        frame = client.post("/api/play/step", json={"play": started["play"], "action": action.tolist()}, headers=AUTH)
+        frame = frame.json()
+        if frame["ending"]:
+            break
+    assert frame["ending"] == "solved" and frame["return"] > 0.9
+    assert frame["scene"]["thrusters"][0]["action"] == 1.0  # the frame shows the thruster firing
+    played = dict(level)
+    del played["solution"]
+    kept = client.post("/api/play/solution", json={"play": started["play"], "level": played}, headers=AUTH).json()
+    saved = client.post("/api/save", json={"path": "played.json", "level": kept["level"]}, headers=AUTH).json()
+    assert saved["valid"]
+    outcome = check_level(load_level(folder / "played.json"))  # what `kinetix validate --play` replays
+    assert bool(outcome["solution"].solved[0])
+
+
+@pytest.fixture(scope="module")
+def agent_run(folder, tiny_run):
+    """The session's tiny run, copied into the studio's folder (an agent is a shipped name or a run in it)."""
+    return shutil.copytree(tiny_run, folder / "runs" / "tiny").relative_to(folder).as_posix()
+
+
+def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(client, level, agent_run):
+    watched = client.post("/api/watch", json={"level": level, "agent": agent_run, "seed": 1}, headers=AUTH).json()
+    frames = watched["frames"]
+    assert len(frames) == len(watched["returns"]) and 2 <= len(frames) <= 257  # the start, then each step
+    assert watched["ending"] in ("solved", "failed", "timed out") and frames[0]["shapes"]
+    result = client.post(
+        "/api/evaluate", json={"level": level, "agent": agent_run, "attempts": 3, "path": LEVEL}, headers=AUTH
+    ).json()
+    assert result["attempts"] == 3 and 0 <= result["solve_rate"] <= 1
+    assert result["finetune"] == f"kinetix finetune {LEVEL} --from {agent_run} --run-dir runs/finetune-rocket-car-jump"
+    missing = client.post("/api/watch", json={"level": level, "agent": "runs/none"}, headers=AUTH)
+    assert missing.status_code == 422 and "runs/none" in missing.json()["error"]
+
+
+@pytest.mark.slow
+def test_generated_and_mutated_levels_are_valid(client, level):
+    for size in ("s", "m"):
+        made = client.post("/api/generate", json={"size": size, "seed": 5}, headers=AUTH).json()["level"]
+        assert client.post("/api/check", json={"level": made}, headers=AUTH).json()["size"] == size
+    edited = client.post("/api/mutate", json={"level": level, "seed": 3, "edits": 4}, headers=AUTH).json()["level"]
+    assert client.post("/api/check", json={"level": edited}, headers=AUTH).json()["ok"] and edited != level
+    assert client.post("/api/generate", json={"size": "xl"}, headers=AUTH).status_code == 400
