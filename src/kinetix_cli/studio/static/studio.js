@@ -160,7 +160,6 @@ function drawSelection() {
 function newLevel() {
   return {
     format: 'kinetix-level/1', name: 'untitled', description: 'make green touch blue', size: 's',
-    arena: { floor: { role: 'blue' } },
     bodies: [{ name: 'ball', shape: 'circle', radius: 0.25, position: [2.5, 2.5], role: 'green' }],
   };
 }
