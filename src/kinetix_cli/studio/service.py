@@ -12,6 +12,7 @@ from __future__ import annotations
 import collections
 import dataclasses
 import json
+import os
 import re
 import secrets
 import tempfile
@@ -235,14 +236,16 @@ class Studio:
                 (result,) = Evaluator(policy.config, [file], attempts)(policy.params)
             except UserError as exc:
                 raise StudioError(422, str(exc).replace(str(file), "level")) from None
-        target = path if isinstance(path, str) and path else "LEVEL.json"
+        # the command runs where the studio was started: paths relative to that folder
+        target = os.path.relpath(self.workspace.path(path)) if isinstance(path, str) and path else "LEVEL.json"
+        source = agent if agent in shipped_names() else os.path.relpath(self.workspace.path(agent))
         run = "runs/finetune-" + re.sub(r"[^a-z0-9]+", "-", spec.name.lower()).strip("-")
         return {
             "solve_rate": result.solve_rate,
             "mean_return": result.mean_return,
             "mean_length": result.mean_length,
             "attempts": attempts,
-            "finetune": f"kinetix finetune {target} --from {agent} --run-dir {run}",
+            "finetune": f"kinetix finetune {target} --from {source} --run-dir {run}",
         }
 
     def _policy(self, agent: Any) -> LoadedPolicy:

@@ -5,6 +5,7 @@ evaluating a trained agent."""
 from __future__ import annotations
 
 import json
+import os
 import shutil
 
 import pytest
@@ -159,7 +160,7 @@ def agent_run(folder, tiny_run):
     return shutil.copytree(tiny_run, folder / "runs" / "tiny").relative_to(folder).as_posix()
 
 
-def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(client, level, agent_run):
+def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(client, folder, level, agent_run):
     watched = client.post("/api/watch", json={"level": level, "agent": agent_run, "seed": 1}, headers=AUTH).json()
     frames = watched["frames"]
     assert len(frames) == len(watched["returns"]) and 2 <= len(frames) <= 257  # the start, then each step
@@ -168,7 +169,9 @@ def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(cli
         "/api/evaluate", json={"level": level, "agent": agent_run, "attempts": 3, "path": LEVEL}, headers=AUTH
     ).json()
     assert result["attempts"] == 3 and 0 <= result["solve_rate"] <= 1
-    assert result["finetune"] == f"kinetix finetune {LEVEL} --from {agent_run} --run-dir runs/finetune-rocket-car-jump"
+    here = lambda name: os.path.relpath(folder / name)  # noqa: E731  the command runs where the studio started
+    command = f"kinetix finetune {here(LEVEL)} --from {here(agent_run)} --run-dir runs/finetune-rocket-car-jump"
+    assert result["finetune"] == command
     missing = client.post("/api/watch", json={"level": level, "agent": "runs/none"}, headers=AUTH)
     assert missing.status_code == 422 and "runs/none" in missing.json()["error"]
 

@@ -205,6 +205,8 @@ async function refresh() { // check the level; draw what the server says it is
   state.check = check;
   if (check.ok) {
     state.scene = check.scene;
+    const agent = $('agent');
+    if (!state.agentChosen && [...agent.options].some((o) => o.value === `general-${check.size}`)) agent.value = `general-${check.size}`;
     say(`valid level of size ${check.size}` + (state.level.solution ? ' (has a solution)' : ''), 'ok');
   } else {
     say(check.error, 'error');
@@ -585,13 +587,13 @@ async function watch() {
 
 async function evaluate() {
   if (!state.check || !state.check.ok) return say('fix the level first', 'error');
-  $('watch-readout').textContent = 'evaluating...';
+  $('eval-readout').textContent = 'evaluating...';
   try {
     const result = await api('/api/evaluate', { level: state.level, agent: $('agent').value, attempts: Number($('attempts').value), path: state.path });
-    $('watch-readout').textContent = `${$('agent').value}: solved ${(100 * result.solve_rate).toFixed(0)}% of ${result.attempts} attempts (mean return ${result.mean_return.toFixed(2)})`;
+    $('eval-readout').textContent = `${$('agent').value}: solved ${(100 * result.solve_rate).toFixed(0)}% of ${result.attempts} attempts (mean return ${result.mean_return.toFixed(2)})`;
     $('command').hidden = false;
     $('command').textContent = 'fine-tune it on this level:\n' + result.finetune;
-  } catch (error) { say(error.message, 'error'); $('watch-readout').textContent = ''; }
+  } catch (error) { say(error.message, 'error'); $('eval-readout').textContent = ''; }
 }
 
 // --- files --------------------------------------------------------------------------------------------------
@@ -710,9 +712,13 @@ $('play-pause').addEventListener('click', () => {
 });
 $('play-keep').addEventListener('click', keepSolution);
 $('watch').addEventListener('click', watch);
+$('agent').addEventListener('change', () => { state.agentChosen = true; });
 $('evaluate').addEventListener('click', evaluate);
 
-api('/api/agents').then((answer) => $('agent').replaceChildren(...answer.agents.map((name) => new Option(name, name)))).catch(() => {});
+api('/api/agents').then((answer) => {
+  $('agent').replaceChildren(...answer.agents.map((name) => new Option(name, name)));
+  if (state.check && state.check.ok && answer.agents.includes(`general-${state.check.size}`)) $('agent').value = `general-${state.check.size}`;
+}).catch(() => {});
 listFiles();
 const wanted = new URLSearchParams(location.search).get('level');
 if (wanted) openFile(wanted); else load(newLevel(), null);
