@@ -4,15 +4,11 @@ Debian's chromium). Run from the repository root: `.venv/bin/python docs/studio_
 from __future__ import annotations
 
 import shutil
-import socket
-import threading
-import time
 from pathlib import Path
 
-import uvicorn
 from playwright.sync_api import expect, sync_playwright
 
-from kinetix_cli.studio.app import create_app
+from kinetix_cli.studio.server import serve_in_background
 from kinetix_cli.studio.service import Studio
 
 TOKEN = "screenshots"
@@ -22,12 +18,8 @@ OUT = Path("docs")
 def main() -> None:
     studio = Studio("levels")
     studio.warm(("s",))
-    sock = socket.create_server(("127.0.0.1", 0))
-    server = uvicorn.Server(uvicorn.Config(create_app(studio, TOKEN), log_level="warning", lifespan="off"))
-    threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True).start()
-    while not server.started:
-        time.sleep(0.02)
-    url = f"http://127.0.0.1:{sock.getsockname()[1]}/?token={TOKEN}&level=s/rocket-car-jump.json"
+    server, port = serve_in_background(studio, TOKEN)
+    url = f"http://127.0.0.1:{port}/?token={TOKEN}&level=s/rocket-car-jump.json"
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=shutil.which("chromium"), args=["--no-sandbox"])
         page = browser.new_page(viewport={"width": 1400, "height": 1010})

@@ -12,16 +12,14 @@ import dataclasses
 import http.client
 import json
 import secrets
-import socket
 import statistics
 import tempfile
-import threading
 import time
 
 import numpy as np
-import uvicorn
 
-from kinetix_cli.studio.app import TOKEN_HEADER, create_app
+from kinetix_cli.studio.app import TOKEN_HEADER
+from kinetix_cli.studio.server import serve_in_background
 from kinetix_cli.studio.service import Studio
 
 
@@ -47,7 +45,7 @@ def bench_studio(config: StudioBenchConfig, report=lambda r: None) -> list[Studi
     token = secrets.token_hex(8)
     with tempfile.TemporaryDirectory() as folder:
         studio = Studio(folder)
-        server, port = _start(studio, token)
+        server, port = serve_in_background(studio, token)
         try:
             results = []
             rng = np.random.default_rng(config.seed)
@@ -94,12 +92,3 @@ def _post(connection: http.client.HTTPConnection, token: str, path: str, body: d
         raise RuntimeError(f"{path}: {response.status} {data}")
     data["_server_s"] = float(response.getheader("Server-Timing", "app;dur=0").split("dur=")[1]) / 1000
     return data
-
-
-def _start(studio: Studio, token: str) -> tuple[uvicorn.Server, int]:
-    sock = socket.create_server(("127.0.0.1", 0))
-    server = uvicorn.Server(uvicorn.Config(create_app(studio, token), log_level="warning", lifespan="off"))
-    threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True).start()
-    while not server.started:
-        time.sleep(0.01)
-    return server, sock.getsockname()[1]

@@ -73,3 +73,14 @@ def serve(
 
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
+
+
+def serve_in_background(studio: Studio, token: str) -> tuple[uvicorn.Server, int]:
+    """`studio` served on a free localhost port from a daemon thread, for benchmarks, tests and screenshots:
+    (server, port), once it accepts requests; `server.should_exit = True` stops it."""
+    sock = socket.create_server(("127.0.0.1", 0))
+    server = uvicorn.Server(uvicorn.Config(create_app(studio, token), log_level="warning", lifespan="off"))
+    threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True).start()
+    while not server.started:
+        threading.Event().wait(0.02)
+    return server, sock.getsockname()[1]

@@ -6,17 +6,13 @@ from __future__ import annotations
 
 import io
 import shutil
-import socket
-import threading
-import time
 
 import numpy as np
 import pytest
-import uvicorn
 from PIL import Image
 
 from helpers.cli import kinetix
-from kinetix_cli.studio.app import create_app
+from kinetix_cli.studio.server import serve_in_background
 from kinetix_cli.studio.service import Studio
 
 CHROMIUM = shutil.which("chromium")
@@ -30,12 +26,8 @@ def studio_url(tmp_path_factory):
     folder = tmp_path_factory.mktemp("studio-browser")
     studio = Studio(folder)
     studio.warm(("s",))
-    sock = socket.create_server(("127.0.0.1", 0))
-    server = uvicorn.Server(uvicorn.Config(create_app(studio, TOKEN), log_level="warning", lifespan="off"))
-    threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True).start()
-    while not server.started:
-        time.sleep(0.02)
-    yield f"http://127.0.0.1:{sock.getsockname()[1]}/?token={TOKEN}", folder
+    server, port = serve_in_background(studio, TOKEN)
+    yield f"http://127.0.0.1:{port}/?token={TOKEN}", folder
     server.should_exit = True
 
 
