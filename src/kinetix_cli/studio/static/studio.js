@@ -164,9 +164,9 @@ function newLevel() {
   };
 }
 
-const bodies = () => state.level.bodies || (state.level.bodies = []);
-const joints = () => state.level.joints || (state.level.joints = []);
-const thrusters = () => state.level.thrusters || (state.level.thrusters = []);
+const bodies = () => state.level.bodies || [];
+const joints = () => state.level.joints || [];
+const thrusters = () => state.level.thrusters || [];
 const shapeOfBody = (i) => state.check && state.check.ok && state.scene.shapes.find((s) => s.slot === state.check.slots[i]);
 const round = (v) => Math.round(v * 1000) / 1000;
 
@@ -267,6 +267,7 @@ function remove(level, sel) {
     level.joints = (level.joints || []).filter((j) => j.a !== name && j.b !== name);
     level.thrusters = (level.thrusters || []).filter((t) => t.body !== name);
   }
+  for (const key of ['joints', 'thrusters']) if (level[key] && !level[key].length) delete level[key];
 }
 
 // --- picking ------------------------------------------------------------------------------------------------
@@ -320,7 +321,7 @@ canvas.addEventListener('mousedown', (event) => {
     if (tool === 'box') body.size = [0.5, 0.5];
     if (tool === 'circle') body.radius = 0.25;
     if (tool === 'polygon') body.vertices = [[-0.3, -0.25], [0.3, -0.25], [0, 0.3]];
-    edit((level) => level.bodies.push(body));
+    edit((level) => (level.bodies = level.bodies || []).push(body));
     state.selected = { kind: 'body', index: bodies().length - 1 };
     return;
   }
