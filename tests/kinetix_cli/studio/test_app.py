@@ -11,7 +11,7 @@ import shutil
 import pytest
 from starlette.testclient import TestClient
 
-from helpers.paths import REPO
+from helpers.paths import REFERENCE_LEVELS, REPO
 from kinetix_cli.errors import LevelError
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.parse import parse_level
@@ -184,3 +184,10 @@ def test_generated_and_mutated_levels_are_valid(client, level):
     edited = client.post("/api/mutate", json={"level": level, "seed": 3, "edits": 4}, headers=AUTH).json()["level"]
     assert client.post("/api/check", json={"level": edited}, headers=AUTH).json()["ok"] and edited != level
     assert client.post("/api/generate", json={"size": "xl"}, headers=AUTH).status_code == 400
+
+
+def test_a_reference_level_opens_through_the_importer_with_its_notes(client, folder):
+    shutil.copy(REFERENCE_LEVELS / "m" / "arm_up.json", folder / "arm_up.json")  # the paper's format
+    answer = client.get("/api/level", params={"path": "arm_up.json"}, headers=AUTH).json()
+    assert answer["level"]["format"] == "kinetix-level/1" and answer["check"]["ok"]
+    assert any("joint 1: b_relative_pos" in note for note in answer["notes"])
