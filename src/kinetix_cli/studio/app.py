@@ -12,7 +12,8 @@ running and nothing is written.
     POST /api/save {path, level, overwrite}        POST /api/generate {size, seed}
     POST /api/mutate {level, seed, edits}          POST /api/play/start {level}
     POST /api/play/step {play, action, steps}      POST /api/play/solution {play, level}
-    POST /api/watch {level, agent, seed}           POST /api/evaluate {level, agent, attempts, path}
+    POST /api/watch/start {level, agent, seed}     POST /api/evaluate {level, agent, attempts, path}
+    (an agent's episode steps through /api/play/step without an action: its agent chooses)
 """
 
 from __future__ import annotations
@@ -123,9 +124,9 @@ def create_app(studio: Studio, token: str) -> Starlette:
         post("/api/generate", lambda s, a: {"level": s.generate(_field(a, "size"), a.get("seed", 0))}),
         post("/api/mutate", lambda s, a: {"level": s.mutate(_field(a, "level"), a.get("seed", 0), a.get("edits", 1))}),
         post("/api/play/start", lambda s, a: s.play_start(_field(a, "level"))),
-        post("/api/play/step", lambda s, a: s.play_step(_field(a, "play"), _field(a, "action"), a.get("steps", 1))),
+        post("/api/play/step", lambda s, a: s.play_step(_field(a, "play"), a.get("action"), a.get("steps", 1))),
         post("/api/play/solution", lambda s, a: {"level": s.play_solution(_field(a, "play"), _field(a, "level"))}),
-        post("/api/watch", lambda s, a: s.watch(_field(a, "level"), _field(a, "agent"), a.get("seed", 0))),
+        post("/api/watch/start", lambda s, a: s.watch_start(_field(a, "level"), _field(a, "agent"), a.get("seed", 0))),
         post(
             "/api/evaluate",
             lambda s, a: s.evaluate(_field(a, "level"), _field(a, "agent"), a.get("attempts", 50), a.get("path")),

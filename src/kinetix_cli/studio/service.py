@@ -23,11 +23,12 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
+from flax import linen as nn
 
 from engine import NUM_ARENA_POLYGONS, SIZES, Scene
 from kinetix_cli.constants import ACTION_WIDTH, INT32_MAX
 from kinetix_cli.env.actions import action_space, binding_values
-from kinetix_cli.env.environment import EnvState
+from kinetix_cli.env.environment import EnvState, KinetixEnv
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import LevelError, UserError
 from kinetix_cli.generator.fresh import fresh_levels
@@ -39,11 +40,10 @@ from kinetix_cli.levels.solution import SOLUTION_SETTINGS, encode_solution
 from kinetix_cli.rl.agents import LoadedPolicy, load_policy, shipped_names
 from kinetix_cli.rl.evaluate import Evaluator
 from kinetix_cli.studio.workspace import StudioError, Workspace
-from kinetix_cli.viz.rollout import episode_recorder
 from kinetix_cli.viz.scene import describe_scene, scene_json
 
-MAX_PLAYS = 8
-"""Play sessions kept at once (the oldest is dropped)."""
+MAX_EPISODES = 8
+"""Episodes (played or watched) kept at once (the oldest is dropped)."""
 MAX_ATTEMPTS = 1000
 """Attempts one evaluation request may ask for."""
 MAX_EDITS = 64
@@ -52,12 +52,17 @@ _ENTITY = re.compile(r"^(bodies|joints|thrusters)\[(\d+)\]")
 
 
 @dataclasses.dataclass
-class _Play:
+class _Episode:
+    """An episode the page steps: played by the user's keys, or by an agent (`policy`, with its own key)."""
+
     spec: LevelSpec
     level: dict  # the level's JSON without its solution, as the episode started
-    size: str
+    env: KinetixEnv
+    stepper: tuple  # (env params, jitted step): see `_stepper`
     state: EnvState
     actions: list[list[int]]
+    policy: LoadedPolicy | None = None
+    key: jax.Array | None = None
     total_return: float = 0.0
     ending: str | None = None  # "solved", "failed", "timed out" once the episode is over
 
@@ -70,9 +75,9 @@ class Studio:
         self.workspace = Workspace(root)
         self.lock = threading.Lock()
         self._envs: dict[str, tuple] = {}
-        self._plays: collections.OrderedDict[str, _Play] = collections.OrderedDict()
+        self._agent_envs: dict[tuple[str, str], tuple] = {}
+        self._episodes: collections.OrderedDict[str, _Episode] = collections.OrderedDict()
         self._policies: dict[str, LoadedPolicy] = {}
-        self._recorders: dict[tuple[str, str], tuple] = {}
 
     # --- levels -----------------------------------------------------------------------------------------
     def check(self, level: Any) -> dict:
@@ -111,77 +116,106 @@ class Studio:
         edited = _mutator(size, edits)(jax.random.key(seed), built)
         return export_level(jax.tree.map(np.asarray, edited), SIZES[size], name=spec.name, description=spec.description)
 
-    # --- play -------------------------------------------------------------------------------------------
+    # --- play and watch ---------------------------------------------------------------------------------
     def play_start(self, level: Any) -> dict:
-        """Start an episode of `level`; returns its id and first frame."""
+        """Start an episode of `level` driven by the page's keys; returns its id and first frame."""
         spec = self._valid(level)
-        size = spec.default_size()
-        env, _, _ = self._env(size)
-        state = env.initial_state(spec.build(env.static))
-        play_id = secrets.token_hex(8)
-        self._plays[play_id] = _Play(spec, _unsolved(level), size, state, [])
-        while len(self._plays) > MAX_PLAYS:
-            self._plays.popitem(last=False)
-        return {"play": play_id, **self._frame(self._plays[play_id], np.zeros(ACTION_WIDTH, np.int32), 0.0)}
+        env, params, step = self._env(spec.default_size())
+        return self._start(_Episode(spec, _unsolved(level), env, (params, step), None, []))
 
-    def play_step(self, play_id: Any, action: Any, steps: Any = 1) -> dict:
-        """`steps` environment steps (1..8) holding `action` (6 multi-discrete entries: motors 0 off, 1 forward,
-        2 backward; thrusters 0 off, 1 on); the frame after them. An ended episode stays ended."""
-        play = self._play(play_id)
-        action = _action(action)
+    def watch_start(self, level: Any, agent: Any, seed: Any = 0) -> dict:
+        """Start an episode of `level` played by `agent` (a shipped agent's name or a run folder inside the
+        studio's folder) in its own environment settings, its actions sampled with `seed`; returns its id, first
+        frame and the seconds one step stands for (the page steps it live at that pace)."""
+        spec = self._valid(level)
+        policy = self._policy(agent)
+        size = spec.default_size()
+        key = (policy.source, size)
+        if key not in self._agent_envs:
+            env, params = policy.env_for(size, "level")
+            self._agent_envs[key] = (env, params, _stepper(env, policy.network))
+            env, params, step = self._agent_envs[key]  # compile it now, not on the page's first step
+            start = env.initial_state(spec.build(env.static))
+            jax.block_until_ready(step(start, jax.random.key(0), params, policy.params))
+        env, params, step = self._agent_envs[key]
+        episode = _Episode(spec, _unsolved(level), env, (params, step), None, [], policy, jax.random.key(_seed(seed)))
+        return self._start(episode) | {"agent": agent}
+
+    def play_step(self, play_id: Any, action: Any = None, steps: Any = 1) -> dict:
+        """`steps` environment steps (1..8) of an episode; the frame after them. A played episode holds `action`
+        (6 multi-discrete entries: motors 0 off, 1 forward, 2 backward; thrusters 0 off, 1 on); an agent's
+        episode takes no action (its agent chooses). An ended episode stays ended."""
+        episode = self._episode(play_id)
+        if episode.policy is None:
+            action = _action(action)
+        elif action is not None:
+            raise StudioError(400, "action: an agent's episode takes no action (its agent chooses)")
         if not isinstance(steps, int) or isinstance(steps, bool) or not 1 <= steps <= 8:
             raise StudioError(400, f"steps: expected a whole number in 1..8, got {steps!r}")
-        env, params, step = self._env(play.size)
-        reward = 0.0
+        params, step = episode.stepper
+        reward, taken = 0.0, action
         for _ in range(steps):
-            if play.ending is not None:
+            if episode.ending is not None:
                 break
-            play.state, r, terminated, truncated, solved, failed = step(play.state, jnp.asarray(action), params)
-            play.actions.append(action.tolist())
+            if episode.policy is None:
+                choice, network = jnp.asarray(action), None
+            else:
+                episode.key, choice = jax.random.split(episode.key)
+                network = episode.policy.params
+            episode.state, taken, r, done, solved, failed = step(episode.state, choice, params, network)
+            episode.actions.append(np.asarray(taken).tolist())
             reward += float(r)
-            if bool(terminated) or bool(truncated):
-                play.ending = "solved" if bool(solved) else "failed" if bool(failed) else "timed out"
-        play.total_return += reward
-        return self._frame(play, action, reward)
+            if bool(done):
+                episode.ending = "solved" if bool(solved) else "failed" if bool(failed) else "timed out"
+        if taken is None:  # an ended agent's episode: the last action it took
+            taken = episode.actions[-1] if episode.actions else None
+        episode.total_return += reward
+        return self._frame(episode, taken, reward)
 
     def play_solution(self, play_id: Any, level: Any) -> dict:
         """`level` with the played episode as its solution; only an episode that solved the level."""
-        play = self._play(play_id)
-        if play.ending != "solved":
+        episode = self._episode(play_id)
+        if episode.policy is not None:
+            raise StudioError(409, "an agent's episode runs in its own settings; play the level to keep a solution")
+        if episode.ending != "solved":
             raise StudioError(409, "the episode has not solved the level; only a solving episode can be kept")
-        if not isinstance(level, dict) or _unsolved(level) != play.level:
+        if not isinstance(level, dict) or _unsolved(level) != episode.level:
             raise StudioError(409, "the level changed since this episode started; play it again")
-        return dict(level) | {"solution": encode_solution(np.asarray(play.actions), len(play.actions))}
+        return dict(level) | {"solution": encode_solution(np.asarray(episode.actions), len(episode.actions))}
 
-    def _frame(self, play: _Play, action: np.ndarray, reward: float) -> dict:
-        physics = jax.tree.map(np.asarray, play.state.physics)
-        values = np.asarray(binding_values("multi-discrete", jnp.asarray(action)))
-        scene = describe_scene(physics, play.state.bindings, values)
+    def _start(self, episode: _Episode) -> dict:
+        play_id = secrets.token_hex(8)
+        episode.state = episode.env.initial_state(episode.spec.build(episode.env.static))
+        self._episodes[play_id] = episode
+        while len(self._episodes) > MAX_EPISODES:
+            self._episodes.popitem(last=False)
+        return {"play": play_id, **self._frame(episode, None, 0.0)}
+
+    def _frame(self, episode: _Episode, action: Any, reward: float) -> dict:
+        physics = jax.tree.map(np.asarray, episode.state.physics)
+        values = None if action is None else np.asarray(binding_values(episode.env.action, jnp.asarray(action)))
+        scene = describe_scene(physics, episode.state.bindings, values)
+        step_seconds = episode.env.frame_skip * float(episode.spec.engine_params().dt)
         return {
             "scene": scene_json(scene),
-            "step": len(play.actions),
+            "step": len(episode.actions),
             "reward": reward,
-            "return": play.total_return,
-            "ending": play.ending,
-            "seconds": len(play.actions) * SOLUTION_SETTINGS.frame_skip * float(play.spec.engine_params().dt),
+            "return": episode.total_return,
+            "ending": episode.ending,
+            "seconds": len(episode.actions) * step_seconds,
+            "step_seconds": step_seconds,
         }
 
-    def _play(self, play_id: Any) -> _Play:
-        if not isinstance(play_id, str) or play_id not in self._plays:
+    def _episode(self, play_id: Any) -> _Episode:
+        if not isinstance(play_id, str) or play_id not in self._episodes:
             raise StudioError(404, "play: no such episode (it ended long ago or the studio restarted); start again")
-        return self._plays[play_id]
+        return self._episodes[play_id]
 
     def _env(self, size: str) -> tuple:
         """(env, params, jitted step) at the solution settings for `size`, compiled on first use."""
         if size not in self._envs:
             env, params = make_env(SOLUTION_SETTINGS, SIZES[size])
-
-            @jax.jit
-            def step(state, action, params):
-                _, state, reward, terminated, truncated, info = env.step_env(state, action, params)
-                return state, reward, terminated, truncated, info["solved"], info["failed"]
-
-            self._envs[size] = (env, params, step)
+            self._envs[size] = (env, params, _stepper(env))
         return self._envs[size]
 
     def warm(self, sizes: tuple[str, ...] = ("s", "m", "l")) -> None:
@@ -190,37 +224,11 @@ class Studio:
         for size in sizes:
             env, params, step = self._env(size)
             level = LevelSpec("warm", "", size, Scene(), [], [], {}).build(SIZES[size])
-            jax.block_until_ready(step(env.initial_state(level), jnp.zeros(ACTION_WIDTH, jnp.int32), params))
+            jax.block_until_ready(step(env.initial_state(level), jnp.zeros(ACTION_WIDTH, jnp.int32), params, None))
 
     # --- agents -----------------------------------------------------------------------------------------
     def agents(self) -> list[str]:
         return shipped_names()
-
-    def watch(self, level: Any, agent: Any, seed: Any = 0) -> dict:
-        """One episode of `agent` (a shipped agent's name or a run folder inside the studio's folder) on
-        `level`, in the agent's own environment settings: every frame, how it ended and its return."""
-        spec = self._valid(level)
-        policy = self._policy(agent)
-        size = spec.default_size()
-        key = (policy.source, size)
-        if key not in self._recorders:
-            env, params = policy.env_for(size, "level")
-            self._recorders[key] = (env, episode_recorder(env, params, policy.act, policy.config.env.max_steps))
-        env, record = self._recorders[key]
-        (episode,) = record([spec.build(env.static)], jax.random.key(_seed(seed))[None])
-        frames = []
-        for i in range(episode.length + 1):
-            physics = jax.tree.map(lambda x, i=i: x[i], episode.physics)
-            action = None if i == 0 else np.asarray(binding_values(episode.action_type, episode.actions[i - 1]))
-            frames.append(scene_json(describe_scene(physics, episode.bindings, action)))
-        rewards = np.concatenate([[0.0], np.cumsum(episode.rewards)])
-        return {
-            "frames": frames,
-            "returns": [round(float(r), 4) for r in rewards],
-            "ending": episode.ending,
-            "return": episode.total_return,
-            "step_seconds": episode.step_seconds,
-        }
 
     def evaluate(self, level: Any, agent: Any, attempts: Any = 50, path: Any = None) -> dict:
         """The agent's solve rate on `level` over `attempts` sampled episodes (`kinetix eval`'s batched
@@ -268,6 +276,21 @@ class Studio:
         except LevelError as exc:
             raise StudioError(422, f"{exc} (fix the level first)") from None
         return spec
+
+
+def _stepper(env: KinetixEnv, network: nn.Module | None = None):
+    """One jitted environment step: `step(state, choice, env_params, network_params) -> (state, action, reward,
+    done, solved, failed)`. Without a network `choice` is the action; with one it is the key the network's action
+    distribution is sampled with (`network_params` are an argument, not constants baked into the compile)."""
+
+    @jax.jit
+    def step(state, choice, params, network_params):
+        sampled = network is not None
+        action = network.apply(network_params, env.observe(state))[0].sample(choice) if sampled else choice
+        _, state, reward, terminated, truncated, info = env.step_env(state, action, params)
+        return state, action, reward, terminated | truncated, info["solved"], info["failed"]
+
+    return step
 
 
 def _unsolved(level: dict) -> dict:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-from collections.abc import Callable
 
 import jax
 import numpy as np
@@ -69,44 +68,33 @@ def record_episodes(
 ) -> list[Episode]:
     """Play one episode of each level (same size) under `policy`, level i with `keys[i]`, all in one batched
     rollout (one compile for the batch), and keep every state of each until it ends."""
-    return episode_recorder(env, params, policy, horizon)(levels, keys)
-
-
-def episode_recorder(
-    env: KinetixEnv, params: EnvParams, policy: Policy, horizon: int
-) -> Callable[[list[Level], jax.Array], list[Episode]]:
-    """`record_episodes` with its environment, policy and horizon fixed: a caller that keeps the recorder (the
-    level studio) compiles the rollout once per batch size, not once per call."""
 
     @functools.partial(jax.jit, static_argnums=2)
     def play(levels, keys, level_axes):
         episode = functools.partial(run_episode, env, params, policy=policy, horizon=horizon, record=True)
         return jax.vmap(lambda level, key: episode(level, key=key), in_axes=(level_axes, 0))(levels, keys)
 
-    def record(levels: list[Level], keys: jax.Array) -> list[Episode]:
-        batch, level_axes = share_engine_params(stack_levels(levels))
-        outcomes, traces = to_host(play(batch, keys, level_axes))
-        episodes = []
-        for i, level in enumerate(levels):
-            length = int(outcomes.length[i])
-            start = jax.tree.map(lambda x: np.asarray(x)[None], level.physics)
-            frames = jax.tree.map(lambda a, b, i=i, n=length: np.concatenate([a, b[i, :n]]), start, traces.physics)
-            episodes.append(
-                Episode(
-                    physics=frames,
-                    bindings=to_host(level.bindings),
-                    action_type=env.action,
-                    actions=traces.action[i, :length],
-                    rewards=traces.reward[i, :length],
-                    solved=bool(outcomes.solved[i]),
-                    failed=bool(outcomes.failed[i]),
-                    length=length,
-                    step_seconds=env.frame_skip * float(level.engine_params.dt),
-                )
+    batch, level_axes = share_engine_params(stack_levels(levels))
+    outcomes, traces = to_host(play(batch, keys, level_axes))
+    episodes = []
+    for i, level in enumerate(levels):
+        length = int(outcomes.length[i])
+        start = jax.tree.map(lambda x: np.asarray(x)[None], level.physics)
+        frames = jax.tree.map(lambda a, b, i=i, n=length: np.concatenate([a, b[i, :n]]), start, traces.physics)
+        episodes.append(
+            Episode(
+                physics=frames,
+                bindings=to_host(level.bindings),
+                action_type=env.action,
+                actions=traces.action[i, :length],
+                rewards=traces.reward[i, :length],
+                solved=bool(outcomes.solved[i]),
+                failed=bool(outcomes.failed[i]),
+                length=length,
+                step_seconds=env.frame_skip * float(level.engine_params.dt),
             )
-        return episodes
-
-    return record
+        )
+    return episodes
 
 
 def episode_frames(title: str, episode: Episode, scale: float = 80, every: int = 1) -> list:

@@ -17,7 +17,7 @@ from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.parse import parse_level
 from kinetix_cli.levels.solution import check_level, decode_solution
 from kinetix_cli.studio.app import MAX_BODY, TOKEN_HEADER, create_app
-from kinetix_cli.studio.service import Studio
+from kinetix_cli.studio.service import MAX_EPISODES, Studio
 
 TOKEN = "test-token"
 AUTH = {TOKEN_HEADER: TOKEN}
@@ -67,7 +67,7 @@ def test_paths_stay_inside_the_folder(client, folder, level):
         assert saved.status_code == 403 and "outside the studio's folder" in saved.json()["error"]
     assert json.loads((folder / "link.json").read_text()) == {"secret": 1}
     assert not (folder.parent / "x.json").exists()
-    agent = client.post("/api/watch", json={"level": level, "agent": "../runs/tiny"}, headers=AUTH)
+    agent = client.post("/api/watch/start", json={"level": level, "agent": "../runs/tiny"}, headers=AUTH)
     assert agent.status_code == 403
 
 
@@ -154,6 +154,19 @@ def test_a_played_episode_that_solves_the_level_becomes_its_solution(client, fol
     assert bool(outcome["solution"].solved[0])
 
 
+def test_several_steps_in_one_request_and_the_oldest_episode_dropped(client, level):
+    first = client.post("/api/play/start", json={"level": level}, headers=AUTH).json()["play"]
+    one = {"play": first, "action": [0] * 6}
+    frame = client.post("/api/play/step", json=one | {"steps": 8}, headers=AUTH).json()
+    assert frame["step"] == 8 and frame["seconds"] == pytest.approx(8 * frame["step_seconds"])
+    for steps in (0, 9, 1.5, True):
+        assert client.post("/api/play/step", json=one | {"steps": steps}, headers=AUTH).status_code == 400
+    for _ in range(MAX_EPISODES):
+        client.post("/api/play/start", json={"level": level}, headers=AUTH)
+    gone = client.post("/api/play/step", json=one, headers=AUTH)
+    assert gone.status_code == 404 and "start again" in gone.json()["error"]
+
+
 @pytest.fixture(scope="module")
 def agent_run(folder, tiny_run):
     """The session's tiny run, copied into the studio's folder (an agent is a shipped name or a run in it)."""
@@ -161,10 +174,21 @@ def agent_run(folder, tiny_run):
 
 
 def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(client, folder, level, agent_run):
-    watched = client.post("/api/watch", json={"level": level, "agent": agent_run, "seed": 1}, headers=AUTH).json()
-    frames = watched["frames"]
-    assert len(frames) == len(watched["returns"]) and 2 <= len(frames) <= 257  # the start, then each step
-    assert watched["ending"] in ("solved", "failed", "timed out") and frames[0]["shapes"]
+    started = client.post("/api/watch/start", json={"level": level, "agent": agent_run, "seed": 1}, headers=AUTH)
+    started = started.json()
+    assert started["step"] == 0 and started["scene"]["shapes"] and started["step_seconds"] > 0
+    frames = [started]
+    while not frames[-1]["ending"] and len(frames) < 300:  # live: one step per request, the agent choosing
+        frames.append(client.post("/api/play/step", json={"play": started["play"]}, headers=AUTH).json())
+    assert frames[-1]["ending"] in ("solved", "failed", "timed out") and 2 <= len(frames) <= 257
+    assert [f["step"] for f in frames] == list(range(len(frames)))
+    assert frames[-1]["return"] == pytest.approx(sum(f["reward"] for f in frames), abs=1e-4)
+    refused = [
+        client.post("/api/play/step", json={"play": started["play"], "action": [0] * 6}, headers=AUTH),
+        client.post("/api/play/solution", json={"play": started["play"], "level": level}, headers=AUTH),
+    ]
+    assert [r.status_code for r in refused] == [400, 409]
+    assert "its agent chooses" in refused[0].json()["error"] and "its own settings" in refused[1].json()["error"]
     result = client.post(
         "/api/evaluate", json={"level": level, "agent": agent_run, "attempts": 3, "path": LEVEL}, headers=AUTH
     ).json()
@@ -172,7 +196,7 @@ def test_an_agent_plays_the_level_and_is_evaluated_with_the_finetune_command(cli
     here = lambda name: os.path.relpath(folder / name)  # noqa: E731  the command runs where the studio started
     command = f"kinetix finetune {here(LEVEL)} --from {here(agent_run)} --run-dir runs/finetune-rocket-car-jump"
     assert result["finetune"] == command
-    missing = client.post("/api/watch", json={"level": level, "agent": "runs/none"}, headers=AUTH)
+    missing = client.post("/api/watch/start", json={"level": level, "agent": "runs/none"}, headers=AUTH)
     assert missing.status_code == 422 and "runs/none" in missing.json()["error"]
 
 

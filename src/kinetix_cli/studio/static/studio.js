@@ -571,19 +571,33 @@ async function keepSolution() {
 }
 
 // --- watch --------------------------------------------------------------------------------------------------
+// The agent plays live on the server: one request per step, at the pace of its environment's step.
 async function watch() {
   if (!state.check || !state.check.ok) return say('fix the level first', 'error');
   clearInterval(state.watchTimer);
-  $('watch-readout').textContent = 'playing...';
+  $('watch-readout').textContent = 'loading the agent...';
   try {
-    const episode = await api('/api/watch', { level: state.level, agent: $('agent').value, seed: Math.floor(Math.random() * 1e6) });
-    let i = 0;
-    state.watchTimer = setInterval(() => {
-      drawScene(episode.frames[i]);
-      $('watch-readout').textContent = `step ${i}  return ${episode.returns[i].toFixed(3)}` + (i === episode.frames.length - 1 ? ` — ${episode.ending}` : '');
-      if (++i >= episode.frames.length) clearInterval(state.watchTimer);
-    }, 1000 * episode.step_seconds);
+    const frame = await api('/api/watch/start', { level: state.level, agent: $('agent').value, seed: Math.floor(Math.random() * 1e6) });
+    const episode = frame.play;
+    watchFrame(frame);
+    let inFlight = false;
+    state.watchTimer = setInterval(async () => {
+      if (inFlight) return;
+      inFlight = true;
+      try {
+        const next = await api('/api/play/step', { play: episode });
+        watchFrame(next);
+        if (next.ending) clearInterval(state.watchTimer);
+      } catch (error) { clearInterval(state.watchTimer); say(error.message, 'error'); }
+      inFlight = false;
+    }, 1000 * frame.step_seconds);
   } catch (error) { say(error.message, 'error'); $('watch-readout').textContent = ''; }
+}
+
+function watchFrame(frame) {
+  drawScene(frame.scene);
+  const ending = frame.ending ? ` — ${frame.ending}` : '';
+  $('watch-readout').textContent = `t = ${frame.seconds.toFixed(2)} s  step ${frame.step}  return ${frame.return.toFixed(3)}${ending}`;
 }
 
 async function evaluate() {
