@@ -4,11 +4,12 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-dev
 CMP_STAMP := $(VENV)/.installed-compare
+DOCS_STAMP := $(VENV)/.installed-docs
 PYTEST_FLAGS ?=
 TEST_WORKERS ?= 3  # pytest-xdist processes for `make test`: one more than CI's 2 cores, which keeps both busy while
                    # a test waits on the `kinetix` processes it started
 
-.PHONY: demo test test-all lint format bench clean reference-levels
+.PHONY: demo test test-all lint format bench clean reference-levels docs
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -20,6 +21,10 @@ $(STAMP): pyproject.toml constraints.txt | $(BIN)/python
 
 $(CMP_STAMP): $(STAMP)
 	$(BIN)/pip install -q -c constraints.txt -e ".[dev,compare]"
+	touch $@
+
+$(DOCS_STAMP): $(STAMP)
+	$(BIN)/pip install -q -c constraints.txt -e ".[dev,docs]"
 	touch $@
 
 # The reference's 74 hand-made levels (JSON, its own format), from the kinetix-env wheel on PyPI; the wheel is only
@@ -78,13 +83,18 @@ demo: $(STAMP)
 	@echo "  report/index.html (both runs' curves, evaluations and the agents playing; open it in a browser)"
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests
-	$(BIN)/ruff format --check src tests
+	$(BIN)/ruff check src tests examples docs
+	$(BIN)/ruff format --check src tests examples docs
 	$(BIN)/lint-imports
 
 format: $(STAMP)
-	$(BIN)/ruff format src tests
-	$(BIN)/ruff check --fix src tests
+	$(BIN)/ruff format src tests examples docs
+	$(BIN)/ruff check --fix src tests examples docs
+
+# The documentation site (mkdocs.yml): guides, README, benchmarks and the API from the docstrings, into .cache/site;
+# any warning (a broken link, a docstring that names a missing parameter) fails it.
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 test: lint reference-levels $(CMP_STAMP)
 	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --dist loadgroup --durations=15 $(PYTEST_FLAGS)

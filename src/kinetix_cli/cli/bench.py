@@ -91,6 +91,42 @@ def bench_env_command(
     _write_bench_json(json_path, config, results)
 
 
+@bench_app.command("gym")
+def bench_gym_command(
+    levels: str = typer.Option("s", help="Level source: fresh, a suite (s, m, l), a level file or folder."),
+    obs: str = typer.Option("symbolic-flat", help="Observation type."),
+    envs: str = typer.Option("64,1024", help="Comma-separated batch sizes."),
+    steps: int = typer.Option(32, min=1, max=10**5, help="Environment steps per timed scan."),
+    min_time: float = typer.Option(3.0, min=0.0, max=3600.0, help="Seconds of timed calls per measurement."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the resets and actions."),
+    json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+) -> None:
+    """Env steps per second through the gymnax environment and the Gymnasium vector environment, against
+    KinetixEnv itself (side by side, one run)."""
+    if json_path is not None:
+        check_output_file(json_path, "--json")
+    from kinetix_cli.bench.gym import GymBenchConfig, bench_gym
+
+    config = GymBenchConfig(
+        levels=levels, observation=obs, envs=int_list("--envs", envs), steps=steps, min_time=min_time, seed=seed
+    )
+    table = Table("path", "observation", "envs", "compile [s]", "env steps/s", "vs KinetixEnv")
+    direct: dict[int, float] = {}
+
+    def report(r):
+        direct.setdefault(r.envs, r.steps_per_s)
+        ratio = f"{r.steps_per_s / direct[r.envs]:.2f}x"
+        console.print(
+            f"{r.path:16s} envs {r.envs:5d}: compile {r.compile_s:6.1f} s, {r.steps_per_s:12,.0f} env steps/s {ratio}",
+            style="dim",
+        )
+        table.add_row(r.path, r.observation, str(r.envs), f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}", ratio)
+
+    results = bench_gym(config, report)
+    console.print(table)
+    _write_bench_json(json_path, config, results)
+
+
 @bench_app.command("train")
 def bench_train_command(
     size: str = typer.Option("s", help="Level size: s, m or l."),

@@ -122,7 +122,9 @@ def eval_command(
     policy: str = typer.Argument(
         ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update>, an agent folder or a shipped agent."
     ),
-    levels: list[Path] = typer.Option([Path("levels/s")], "--levels", help="Level files or folders (repeatable)."),
+    levels: list[Path] = typer.Option(
+        [Path("s")], "--levels", help="Level files or folders, or a shipped suite: s, m, l (repeatable)."
+    ),
     attempts: int = typer.Option(50, min=1, max=10**5, help="Stochastic episodes per level."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),

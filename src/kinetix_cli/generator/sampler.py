@@ -66,7 +66,7 @@ class SamplerConfig:
         limits_prob: a revolute joint gets limits (lower U[-pi, 0], upper U[0, pi] around its initial angle).
         motor_speed, motor_power: ranges of the motor scales (power is 1 when a circle is involved).
         thruster_prob: probability of each extra thruster try.
-        thruster_power: thruster power = mass * 2 * U[thruster_power] [1].
+        thruster_power: thruster power = mass * 2 * u, u drawn uniformly from this range [1].
         thruster_com_prob: a thruster pushes through the centre of mass (else in a uniform direction).
         swap_prob: probability that green and blue swap roles.
         density, friction, restitution: material of every new shape.

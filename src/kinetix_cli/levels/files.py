@@ -16,6 +16,7 @@ from kinetix_cli.levels.format import format_level_json
 from kinetix_cli.levels.levelset import MANIFEST_FILE, PROGRESS_FILE
 from kinetix_cli.levels.parse import LevelSpec, parse_level
 from kinetix_cli.levels.reference import Note, convert_reference_level, is_reference_level
+from kinetix_cli.levels.suites import resolve_suite
 
 
 class ConversionWarning(UserWarning):
@@ -23,10 +24,11 @@ class ConversionWarning(UserWarning):
 
 
 def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
-    """Level files named by `paths`, with folders expanded into their *.json files (sorted, recursively).
-    A missing path or a folder without level files is a `UserError`."""
+    """Level files named by `paths`, with folders expanded into their *.json files (sorted, recursively); a name
+    of a shipped suite ('s', 'm', 'l') that is not a path here means that suite. A missing path or a folder without
+    level files is a `UserError`."""
     files: list[Path] = []
-    for path in map(Path, paths):
+    for path in map(resolve_suite, paths):
         if path.is_dir():
             found = sorted(path.rglob("*.json"))
             for folder in sorted({f.parent for f in found}):
@@ -41,7 +43,7 @@ def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
         elif path.exists():
             files.append(path)
         else:
-            raise UserError(f"{path}: no such file or folder")
+            raise UserError(f"{path}: no such file or folder (the shipped suites are named s, m and l)")
     return files
 
 

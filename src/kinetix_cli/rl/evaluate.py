@@ -29,6 +29,7 @@ from kinetix_cli.env.level import Level, share_engine_params, stack_levels
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import read_format
 from kinetix_cli.levels.files import load_level
+from kinetix_cli.levels.suites import shown_path
 from kinetix_cli.parallel import make_mesh, pad_batch, replicate, shard_batch, using
 from kinetix_cli.rl.networks import make_network, sampling_policy
 
@@ -116,8 +117,8 @@ class Evaluator:
                 rows = slice(i * self.attempts, (i + 1) * self.attempts)
                 results.append(
                     LevelResult(
-                        level=str(path),
-                        suite=str(Path(path).parent),
+                        level=shown_path(path),
+                        suite=shown_path(Path(path).parent),
                         size=size,
                         solve_rate=float(np.mean(outcome.solved[rows])),
                         mean_return=float(np.mean(outcome.total_return[rows])),

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import importlib.util
 import json
 import math
 import time
@@ -107,6 +108,11 @@ def train(
         devices: local devices per process to train on (None: all).
     """
     run_dir = check_output_dir(run_dir, "--run-dir")
+    if config.run.wandb != "off" and importlib.util.find_spec("wandb") is None:
+        raise UserError(
+            f"run.wandb={config.run.wandb}: wandb is not installed; install it with pip install 'kinetix[wandb]' "
+            "or leave run.wandb off (metrics.jsonl is written either way)"
+        )
     if not resume and run_dir.exists() and any(run_dir.iterdir()):
         raise UserError(f"--run-dir {run_dir}: not empty; pass --resume to continue it or choose a new folder")
     saved = run_dir / CONFIG_FILENAME
@@ -356,8 +362,9 @@ def _evaluation_metrics(evaluation: dict) -> dict:
 
 
 def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
-    """A wandb run when `run.wandb` is 'offline' or 'online', else None. wandb is optional: if it cannot start
-    (not installed, no network), training goes on with a warning; metrics.jsonl is always written."""
+    """A wandb run when `run.wandb` is 'offline' or 'online', else None. wandb is an optional extra (`train`
+    refuses to start without it); if it cannot start (no network, ...), training goes on with a warning;
+    metrics.jsonl is always written."""
     if config.run.wandb == "off":
         return None
     try:

@@ -5,6 +5,7 @@ bit for bit, and the run's evaluations are those of `kinetix eval`. Every run he
 from __future__ import annotations
 
 import dataclasses
+import importlib.util
 import json
 
 import jax
@@ -110,6 +111,17 @@ def test_refuses_to_overwrite_a_run(tmp_path, tiny_pool):
     (tmp_path / "run" / "notes.txt").write_text("mine")
     with pytest.raises(UserError, match="not empty"):
         train(tiny_config(), tmp_path / "run", pool=tiny_pool)
+
+
+def test_asking_for_wandb_without_it_is_one_clear_error(tmp_path, tiny_pool, monkeypatch):
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "wandb" else real(name, *a))
+    config = tiny_config("run.wandb=offline")
+    with pytest.raises(
+        UserError, match=r"run.wandb=offline: wandb is not installed; install it with pip install 'kinetix\[wandb\]'"
+    ):
+        train(config, tmp_path / "run", pool=tiny_pool)
+    assert not (tmp_path / "run").exists()
 
 
 @pytest.mark.slow

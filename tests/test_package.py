@@ -1,0 +1,107 @@
+"""The package stands on its own: the wheel built from the repository, installed in a fresh virtual environment
+outside the checkout, carries the shipped agents and the hand-made suites, and `kinetix agents`, `kinetix eval
+general-s --levels s`, `kinetix generate` and the gymnax `make` work from another folder. wandb is an extra.
+
+In `make test` the fresh environment gets the wheel alone, and finds the wheel's dependencies in the suite's own
+environment (a path entry, not an install: the checkout's editable install stays invisible to it). The slow test
+installs the wheel with its dependencies from the package index, as a user would.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import sysconfig
+import venv
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from helpers.paths import REPO
+from helpers.processes import TIMEOUT, process_env
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("wheel")
+    pip = [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", str(REPO), "-w", str(out)]
+    subprocess.run(pip, check=True, timeout=TIMEOUT, capture_output=True)
+    (built,) = out.glob("kinetix-*.whl")
+    return built
+
+
+def _fresh_venv(root: Path, *, with_pip: bool) -> Path:
+    venv.EnvBuilder(with_pip=with_pip).create(root)
+    return root / "bin" / "python"
+
+
+def _install(python: Path, wheel: Path, *, deps: bool) -> None:
+    command = [sys.executable, "-m", "pip", "--python", str(python), "install", "-q", str(wheel)]
+    command += [] if deps else ["--no-deps"]
+    subprocess.run(command, check=True, timeout=TIMEOUT, capture_output=True)
+
+
+def _run(python: Path, args: list[str], cwd: Path) -> str:
+    kinetix = python.parent / "kinetix"
+    done = subprocess.run(
+        [str(kinetix), *args] if args[0] != "-c" else [str(python), *args],
+        cwd=cwd,
+        env=process_env() | {"PYTHONPATH": ""},
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
+    )
+    assert done.returncode == 0, f"{args}: exit {done.returncode}\n{done.stdout}\n{done.stderr}"
+    return done.stdout
+
+
+def test_the_wheel_carries_agents_suites_and_the_studio_and_wandb_is_an_extra(wheel):
+    names = zipfile.ZipFile(wheel).namelist()
+    for size in ("s", "m", "l"):
+        assert sum(n.startswith(f"kinetix_levels/{size}/") and n.endswith(".json") for n in names) >= 10
+    assert any(n.startswith("kinetix_cli/rl/shipped/general-s/") for n in names)
+    assert "kinetix_cli/studio/static/studio.js" in names
+    metadata = zipfile.ZipFile(wheel).read(next(n for n in names if n.endswith("METADATA"))).decode()
+    wandb = [line for line in metadata.splitlines() if line.startswith("Requires-Dist: wandb")]
+    assert wandb and all("; extra == " in line for line in wandb)  # only with an extra (wandb, or dev)
+
+
+def _check_installed(python: Path, work: Path) -> None:
+    """The commands a new user runs, from a folder that is not the checkout."""
+    where = _run(python, ["-c", "import kinetix_cli, kinetix_levels; print(kinetix_cli.__file__)"], work)
+    assert str(python.parent.parent) in where and str(REPO) not in where
+    assert "general-s" in _run(python, ["agents"], work)
+    listed = _run(python, ["levels", "list", "s", "--markdown"], work)
+    assert "rocket-car-jump" in listed and str(REPO) not in listed
+    evaluated = _run(python, ["eval", "general-s", "--levels", "s", "--attempts", "2", "--json", "eval.json"], work)
+    record = json.loads((work / "eval.json").read_text())
+    assert "levels/s/rocket-car-jump.json" in [entry["level"] for entry in record["levels"]]
+    assert list(record["suites"]) == ["levels/s", "all"] and "levels/s" in evaluated
+    _run(python, ["generate", "--size", "s", "--count", "4", "--seed", "0", "--out", "made"], work)
+    assert (work / "made" / "manifest.json").is_file()
+    made = "from kinetix_cli.gym import make; env, p = make('m'); print(env.name, int(p.pool_count))"
+    assert _run(python, ["-c", made], work).split() == ["Kinetix-m", "20"]
+
+
+def test_installed_outside_the_checkout_it_works_from_any_folder(wheel, tmp_path):
+    python = _fresh_venv(tmp_path / "venv", with_pip=False)
+    _install(python, wheel, deps=False)
+    purelib = Path(sysconfig.get_paths()["purelib"])  # this suite's environment: the wheel's dependencies
+    fresh_purelib = next((tmp_path / "venv" / "lib").glob("python3*/site-packages"))
+    (fresh_purelib / "suite_dependencies.pth").write_text(f"{purelib}\n")
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+    _check_installed(python, work)
+
+
+@pytest.mark.slow
+def test_installed_with_its_dependencies_from_the_index(wheel, tmp_path):
+    python = _fresh_venv(tmp_path / "venv", with_pip=True)
+    _install(python, wheel, deps=True)
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+    _check_installed(python, work)
+    missing = subprocess.run([str(python), "-c", "import wandb"], capture_output=True, timeout=TIMEOUT)
+    assert missing.returncode != 0  # not installed without the extra
