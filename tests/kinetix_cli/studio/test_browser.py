@@ -5,6 +5,7 @@ and check the saved file with `kinetix validate --play`. A screenshot of the can
 from __future__ import annotations
 
 import io
+import json
 import shutil
 
 import numpy as np
@@ -44,8 +45,17 @@ def test_build_play_solve_and_save_a_level_in_chromium(studio_url, capsys, tmp_p
         sync_api.expect(message).to_contain_text("valid level of size s")
         canvas = page.locator("#canvas").bounding_box()
 
-        def click(x: float, y: float) -> None:  # a world point [m]
-            page.mouse.click(canvas["x"] + (x + 0.1) * SCALE, canvas["y"] + (5.1 - y) * SCALE)
+        def at(x: float, y: float) -> tuple[float, float]:  # a world point [m] on the page
+            return canvas["x"] + (x + 0.1) * SCALE, canvas["y"] + (5.1 - y) * SCALE
+
+        def click(x: float, y: float) -> None:
+            page.mouse.click(*at(x, y))
+
+        def drag(start: tuple[float, float], end: tuple[float, float]) -> None:
+            page.mouse.move(*at(*start))
+            page.mouse.down()
+            page.mouse.move(*at(*end), steps=8)
+            page.mouse.up()
 
         def settle() -> None:
             sync_api.expect(message).to_contain_text("valid level")
@@ -69,6 +79,12 @@ def test_build_play_solve_and_save_a_level_in_chromium(studio_url, capsys, tmp_p
         settle()
         page.locator("#selection-form input[type=checkbox]").first.check()  # fixed
         settle()
+        # turned a quarter turn by its rotate handle (0.3 m above its top), then scaled up by its corner handle
+        tool("select")
+        drag((4.0, 2.75 + 0.3), (3.45, 2.5))
+        settle()
+        drag((4.25 + 0.12, 2.25 - 0.12), (4.48, 2.02))
+        settle()
         gravity_y = page.locator("#level-form input[type=number]").nth(1)
         gravity_y.fill("0")
         gravity_y.dispatch_event("change")
@@ -77,10 +93,12 @@ def test_build_play_solve_and_save_a_level_in_chromium(studio_url, capsys, tmp_p
         tool("thruster")
         click(1.0, 2.5)
         settle()
+        sync_api.expect(page.locator("#selection-form")).to_contain_text("direction_deg")  # the thruster's form
         direction = page.locator("#selection-form input[type=number]").nth(2)  # anchor x, anchor y, direction
         direction.fill("0")
         direction.dispatch_event("change")
         settle()
+        sync_api.expect(page.locator("#selection-form input[type=number]").nth(2)).to_have_value("0")
         shot = page.locator("#canvas").screenshot()
 
         # play: hold J (thruster T0) until the ball reaches the target
@@ -103,5 +121,7 @@ def test_build_play_solve_and_save_a_level_in_chromium(studio_url, capsys, tmp_p
     assert green > 0.002 and blue > 0.002  # the ball and the target are drawn
     Image.open(io.BytesIO(shot)).save(folder / "built.png")  # kept for a person to look at (pytest's basetemp)
 
+    target = next(body for body in json.loads((folder / "built.json").read_text())["bodies"] if body["role"] == "blue")
+    assert target["angle_deg"] == 90 and 0.6 < target["size"][0] < 0.7 and target["size"][0] == target["size"][1]
     checked = kinetix(capsys, "validate", "--play", folder / "built.json")
     assert checked.code == 0 and "solution solves in" in checked.out, checked.out

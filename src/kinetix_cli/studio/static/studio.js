@@ -148,6 +148,15 @@ function drawSelection() {
     const shape = shapeOfBody(sel.index);
     if (shape && shape.points) { ctx.beginPath(); shape.points.forEach((p, i) => (i ? ctx.lineTo(...px(p)) : ctx.moveTo(...px(p)))); ctx.closePath(); ctx.stroke(); }
     if (shape && shape.centre) { ctx.beginPath(); ctx.arc(...px(shape.centre), shape.radius * scale + 3, 0, 2 * Math.PI); ctx.stroke(); }
+    const at = handles();
+    if (at) {
+      ctx.setLineDash([]);
+      ctx.fillStyle = '#2b6cb0';
+      ctx.beginPath(); ctx.moveTo(...px(at.centre)); ctx.lineTo(...px(at.rotate)); ctx.stroke();
+      ctx.beginPath(); ctx.arc(...px(at.rotate), HANDLE * scale, 0, 2 * Math.PI); ctx.fill();
+      const [x, y] = px(at.resize), r = HANDLE * scale;
+      ctx.fillRect(x - r, y - r, 2 * r, 2 * r);
+    }
   } else {
     const list = sel.kind === 'joint' ? state.scene.joints : state.scene.thrusters;
     const item = list.find((x) => x.index === sel.index);
@@ -271,6 +280,26 @@ function remove(level, sel) {
 }
 
 // --- picking ------------------------------------------------------------------------------------------------
+const HANDLE = 0.07; // radius of the rotate and resize handles [m]
+
+function handles() { // the selected body's centre, rotate handle (above it) and resize handle (lower right corner)
+  const sel = state.selected;
+  if (!sel || sel.kind !== 'body' || state.mode !== 'edit') return null;
+  const shape = shapeOfBody(sel.index);
+  if (!shape) return null;
+  const corners = shape.points || [-1, 1].map((d) => shape.centre.map((v) => v + d * shape.radius));
+  const xs = corners.map((p) => p[0]), ys = corners.map((p) => p[1]);
+  const centre = bodies()[sel.index].position;
+  return { centre, rotate: [centre[0], Math.max(...ys) + 0.3], resize: [Math.max(...xs) + 0.12, Math.min(...ys) - 0.12] };
+}
+
+function handleAt(point) {
+  const at = handles();
+  if (!at) return null;
+  const near = (q) => Math.hypot(point[0] - q[0], point[1] - q[1]) < 2 * HANDLE;
+  return near(at.rotate) ? { kind: 'rotate', at } : near(at.resize) ? { kind: 'resize', at } : null;
+}
+
 function world(event) {
   const r = canvas.getBoundingClientRect();
   const x = (event.clientX - r.left) * canvas.width / r.width, y = (event.clientY - r.top) * canvas.height / r.height;
@@ -340,6 +369,13 @@ canvas.addEventListener('mousedown', (event) => {
     state.selected = { kind: 'thruster', index: thrusters().length - 1 };
     return;
   }
+  const handle = handleAt(p);
+  if (handle) { // turn or scale the selected body by its handle
+    const [cx, cy] = handle.at.centre;
+    drag = { handle: handle.kind, index: state.selected.index, centre: handle.at.centre, moved: false,
+      angle: Math.atan2(p[1] - cy, p[0] - cx) * 180 / Math.PI, radius: Math.hypot(p[0] - cx, p[1] - cy) };
+    return;
+  }
   state.selected = pick(p);
   if (state.selected && state.selected.kind === 'body') drag = { start: p, last: p, index: state.selected.index, moved: false };
   drawScene(state.scene);
@@ -349,11 +385,28 @@ canvas.addEventListener('mousedown', (event) => {
 canvas.addEventListener('mousemove', (event) => {
   if (!drag) return;
   const p = world(event).map(round);
-  const dx = round(p[0] - drag.last[0]), dy = round(p[1] - drag.last[1]);
-  if (!dx && !dy) return;
-  if (!drag.moved) { state.history.push(JSON.stringify(state.level)); state.future = []; drag.moved = true; }
-  moveGroup(state.level, drag.index, dx, dy);
-  drag.last = p;
+  const begin = () => { if (!drag.moved) { state.history.push(JSON.stringify(state.level)); state.future = []; drag.moved = true; } };
+  if (drag.handle === 'rotate') { // whole degrees, about the body's position, with everything joined to it
+    const angle = Math.atan2(p[1] - drag.centre[1], p[0] - drag.centre[0]) * 180 / Math.PI;
+    const turn = Math.round(((angle - drag.angle + 540) % 360) - 180);
+    if (!turn) return;
+    begin();
+    rotateGroup(state.level, drag.index, turn);
+    drag.angle += turn;
+  } else if (drag.handle === 'resize') { // in steps of 2% of the distance to the centre
+    const radius = Math.hypot(p[0] - drag.centre[0], p[1] - drag.centre[1]);
+    const factor = radius / drag.radius;
+    if (Math.abs(factor - 1) < 0.02 || radius < 0.05) return;
+    begin();
+    resize(state.level, drag.index, factor);
+    drag.radius = radius;
+  } else {
+    const dx = round(p[0] - drag.last[0]), dy = round(p[1] - drag.last[1]);
+    if (!dx && !dy) return;
+    begin();
+    moveGroup(state.level, drag.index, dx, dy);
+    drag.last = p;
+  }
   state.dirty = true;
   refresh();
 });
