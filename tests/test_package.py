@@ -2,9 +2,10 @@
 outside the checkout, carries the shipped agents and the hand-made suites, and `kinetix agents`, `kinetix eval
 general-s --levels s`, `kinetix generate` and the gymnax `make` work from another folder. wandb is an extra.
 
-In `make test` the fresh environment gets the wheel alone, and finds the wheel's dependencies in the suite's own
-environment (a path entry, not an install: the checkout's editable install stays invisible to it). The slow test
-installs the wheel with its dependencies from the package index, as a user would.
+The fresh environment gets the wheel alone and finds the wheel's dependencies in the suite's own environment (a
+path entry, not an install: the checkout's editable install stays invisible to it); `make test` runs what needs no
+compile there, the slow tests the rest, and once more with the wheel's dependencies installed from the package
+index, as a user would.
 """
 
 from __future__ import annotations
@@ -68,11 +69,22 @@ def test_the_wheel_carries_agents_suites_and_the_studio_and_wandb_is_an_extra(wh
     assert wandb and all("; extra == " in line for line in wandb)  # only with an extra (wandb, or dev)
 
 
-def _check_installed(python: Path, work: Path) -> None:
-    """The commands a new user runs, from a folder that is not the checkout."""
-    where = _run(python, ["-c", "import kinetix_cli, kinetix_levels; print(kinetix_cli.__file__)"], work)
+def _check_installed(python: Path, work: Path, *, compiles: bool) -> None:
+    """The commands a new user runs, from a folder that is not the checkout; with `compiles`, also those that
+    compile a program (evaluation, generation), which take minutes on the CI's 2 cores."""
+    probe = (
+        "import kinetix_cli, kinetix_levels\n"
+        "from kinetix_cli.levels.files import level_paths\n"
+        "from kinetix_cli.gym import make\n"
+        "env, params = make('m')\n"
+        "print(kinetix_cli.__file__, len(level_paths(['s'])), env.name, int(params.pool_count))\n"
+    )
+    where, suite_s, name, count = _run(python, ["-c", probe], work).split()
     assert str(python.parent.parent) in where and str(REPO) not in where
+    assert (int(suite_s), name, int(count)) == (10, "Kinetix-m", 20)
     assert "general-s" in _run(python, ["agents"], work)
+    if not compiles:
+        return
     listed = _run(python, ["levels", "list", "s", "--markdown"], work)
     assert "rocket-car-jump" in listed and str(REPO) not in listed
     evaluated = _run(python, ["eval", "general-s", "--levels", "s", "--attempts", "2", "--json", "eval.json"], work)
@@ -81,19 +93,26 @@ def _check_installed(python: Path, work: Path) -> None:
     assert list(record["suites"]) == ["levels/s", "all"] and "levels/s" in evaluated
     _run(python, ["generate", "--size", "s", "--count", "4", "--seed", "0", "--out", "made"], work)
     assert (work / "made" / "manifest.json").is_file()
-    made = "from kinetix_cli.gym import make; env, p = make('m'); print(env.name, int(p.pool_count))"
-    assert _run(python, ["-c", made], work).split() == ["Kinetix-m", "20"]
 
 
-def test_installed_outside_the_checkout_it_works_from_any_folder(wheel, tmp_path):
-    python = _fresh_venv(tmp_path / "venv", with_pip=False)
+def _wheel_only_venv(wheel: Path, root: Path) -> Path:
+    """A fresh environment with the wheel alone, finding its dependencies in this suite's environment."""
+    python = _fresh_venv(root / "venv", with_pip=False)
     _install(python, wheel, deps=False)
-    purelib = Path(sysconfig.get_paths()["purelib"])  # this suite's environment: the wheel's dependencies
-    fresh_purelib = next((tmp_path / "venv" / "lib").glob("python3*/site-packages"))
+    purelib = Path(sysconfig.get_paths()["purelib"])
+    fresh_purelib = next((root / "venv" / "lib").glob("python3*/site-packages"))
     (fresh_purelib / "suite_dependencies.pth").write_text(f"{purelib}\n")
-    work = tmp_path / "elsewhere"
-    work.mkdir()
-    _check_installed(python, work)
+    (root / "elsewhere").mkdir()
+    return python
+
+
+def test_installed_outside_the_checkout_it_finds_its_agents_suites_and_gym_from_any_folder(wheel, tmp_path):
+    _check_installed(_wheel_only_venv(wheel, tmp_path), tmp_path / "elsewhere", compiles=False)
+
+
+@pytest.mark.slow
+def test_installed_outside_the_checkout_eval_and_generate_work(wheel, tmp_path):
+    _check_installed(_wheel_only_venv(wheel, tmp_path), tmp_path / "elsewhere", compiles=True)
 
 
 @pytest.mark.slow
@@ -102,6 +121,6 @@ def test_installed_with_its_dependencies_from_the_index(wheel, tmp_path):
     _install(python, wheel, deps=True)
     work = tmp_path / "elsewhere"
     work.mkdir()
-    _check_installed(python, work)
+    _check_installed(python, work, compiles=True)
     missing = subprocess.run([str(python), "-c", "import wandb"], capture_output=True, timeout=TIMEOUT)
     assert missing.returncode != 0  # not installed without the extra

@@ -66,6 +66,7 @@ def test_another_pool_of_the_same_size_and_bucket_does_not_compile_again(suite_s
     assert _step._cache_size() == compiled
 
 
+@pytest.mark.slow  # the generator's compile (~40 s); entity observations are in make test through test_vector
 def test_fresh_levels_and_entity_observations():
     env, params = make("fresh", size="s", observation="symbolic-entity", action="discrete", max_steps=4)
     assert params.pool is None and env.num_actions == 11
