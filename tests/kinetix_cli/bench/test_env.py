@@ -8,6 +8,7 @@ from kinetix_cli.bench.env import EnvBenchConfig, bench_env
 from kinetix_cli.errors import UserError
 
 
+@pytest.mark.slow  # a benchmark's smoke test (13 s); its option checks stay in make test
 def test_env_bench_reports_each_observation_and_batch():
     config = EnvBenchConfig(size="s", envs=(2,), observations=("symbolic-flat",), steps=2, min_time=0.0)
     (result,) = bench_env(config)

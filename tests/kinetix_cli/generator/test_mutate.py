@@ -39,6 +39,7 @@ def joints(level) -> int:
     return int(level.physics.joints.active.sum())
 
 
+@pytest.mark.slow  # 30 s; each edit's own effect is checked in make test (test_each_edit_changes_what_it_names)
 def test_mutations_stay_valid_closed_and_in_the_arena(levels):
     static, batch = levels
     mutated = jax.jit(jax.vmap(functools.partial(mutate.mutate_level, static, edits=5)))(
