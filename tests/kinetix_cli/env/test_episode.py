@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import jax
 import numpy as np
+import pytest
 
 from engine import SIZES
 from helpers.levels import FALL, PUSH
@@ -31,6 +32,7 @@ def test_a_recorded_trace_matches_its_outcome():
     assert trace.physics.bodies.position.shape == (64, SIZES["s"].num_bodies, 2)
 
 
+@pytest.mark.slow  # 17 s; replays of one level are checked in make test (test_a_recorded_trace_matches_its_outcome)
 def test_batched_replay_equals_one_by_one_with_mixed_engine_constants():
     env, params = make_env(SETTINGS)
     push, fall = parse_level(PUSH), FALL | {"params": {"dt": 0.025}}

@@ -184,9 +184,11 @@ def entity_model(model: str):
 
 
 ENTITY_MODELS = ("pi-mlp", "rel-mlp", "transformer")
+SLOW_TRANSFORMER = ("pi-mlp", "rel-mlp", pytest.param("transformer", marks=pytest.mark.slow))
+"""The two checks whose transformer compile costs ~10 s each run it in make test-all only."""
 
 
-@pytest.mark.parametrize("model", ENTITY_MODELS)
+@pytest.mark.parametrize("model", SLOW_TRANSFORMER)
 def test_initial_policy_is_near_uniform(model):
     apply, params = entity_model(model)
     logits, value = apply(params, observations("s", "symbolic-entity"))
@@ -194,7 +196,7 @@ def test_initial_policy_is_near_uniform(model):
     np.testing.assert_allclose(MultiCategorical(logits).entropy(), 4 * math.log(3) + 2 * math.log(2), atol=0.01)
 
 
-@pytest.mark.parametrize("model", ENTITY_MODELS)
+@pytest.mark.parametrize("model", SLOW_TRANSFORMER)
 def test_a_masking_model_leaves_the_bindings_a_level_does_not_use_off(model):
     """On real observations, a model with `mask_unused_actions` samples "off" on every binding that
     `used_bindings` says moves nothing, and still samples the others."""
