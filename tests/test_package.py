@@ -11,6 +11,7 @@ index, as a user would.
 from __future__ import annotations
 
 import json
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -23,11 +24,19 @@ import pytest
 from helpers.paths import REPO
 from helpers.processes import TIMEOUT, process_env
 
+pytestmark = pytest.mark.xdist_group("wheel")  # one worker builds the wheel once for all of them
+
 
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("wheel")
-    pip = [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", str(REPO), "-w", str(out)]
+    """The wheel, built from a copy of what it is made of (pip builds in the source tree; the checkout stays as
+    it is, and nothing else in the suite writes there meanwhile)."""
+    source, out = tmp_path_factory.mktemp("source"), tmp_path_factory.mktemp("wheel")
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(REPO / name, source / name)
+    for name in ("src", "levels"):
+        shutil.copytree(REPO / name, source / name, symlinks=True, ignore=shutil.ignore_patterns("__pycache__"))
+    pip = [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", str(source), "-w", str(out)]
     subprocess.run(pip, check=True, timeout=TIMEOUT, capture_output=True)
     (built,) = out.glob("kinetix-*.whl")
     return built
