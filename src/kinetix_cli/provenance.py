@@ -10,7 +10,7 @@ from importlib import metadata
 
 import jax
 
-LIBRARIES = ("jax", "jaxlib", "flax", "optax", "orbax-checkpoint", "numpy", "jax2d")
+LIBRARIES = ("jax", "jaxlib", "flax", "optax", "orbax-checkpoint", "numpy", "gymnax", "gymnasium", "jax2d")
 
 
 def tool_version() -> str:
