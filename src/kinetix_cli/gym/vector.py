@@ -48,8 +48,8 @@ class KinetixVectorEnv(VectorEnv):
         self._key = jax.random.key(0)
         self._state = None
 
-    def reset(self, *, seed: int | list[int] | None = None, options: dict | None = None):
-        super().reset(seed=seed)
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)  # Gymnasium checks the seed (an int) and seeds np_random
         if seed is not None:
             self._key = jax.random.key(_seed(seed))
         self._key, key = jax.random.split(self._key)
@@ -147,7 +147,5 @@ def _batch_of_one(action):
     return np.asarray(action)[None]
 
 
-def _seed(seed: int | list[int]) -> int:
-    if isinstance(seed, list | tuple):
-        return int(np.random.SeedSequence([int(s) for s in seed]).generate_state(1)[0])
-    return int(seed) & 0xFFFFFFFF
+def _seed(seed: int) -> int:
+    return int(seed) & 0x7FFFFFFF  # a non-negative int32: what jax.random.key takes on every platform
