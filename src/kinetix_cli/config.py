@@ -233,6 +233,9 @@ class RunSettings:
         fresh_policy_head: fine-tuning only (with `init_from` or `kinetix finetune --from`): the actor's output
             layer starts freshly initialised, a near-uniform policy, while the rest of the network (features, critic)
             keeps the loaded parameters; for agents whose confident habits fail on the new level.
+        policy_temperature: fine-tuning only, discrete actions: the loaded actor's logits are divided by this at
+            the start (its output layer's weights and bias scaled by 1 / this), so a near-deterministic agent
+            explores again while its preferences keep their order; 1 (default) loads the actor as it is.
         minutes: a wall-clock budget [min]: the run ends after the update during which its training time (the
             updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
             checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
@@ -248,6 +251,7 @@ class RunSettings:
     wandb: WandbMode = "off"
     init_from: str | None = None
     fresh_policy_head: bool = False
+    policy_temperature: float = 1.0
     minutes: float = 0.0
 
     def __post_init__(self):
@@ -255,6 +259,15 @@ class RunSettings:
         _within(self, "seed", 0, INT32_MAX)
         _within(self, "minutes", 0, 10**7)  # 0: no budget
         _require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
+        _within(self, "policy_temperature", 1e-3, 1e3)
+        if self.policy_temperature != 1.0:
+            _require(self, "policy_temperature", self.init_from, "needs run.init_from")
+            _require(
+                self,
+                "policy_temperature",
+                not self.fresh_policy_head,
+                "softens a loaded actor; with run.fresh_policy_head there is none",
+            )
         _within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
         _within(self, "eval_every", 0, INT32_MAX)  # 0: never
         _within(self, "eval_attempts", 1, 10**6)
@@ -280,6 +293,8 @@ class LevelSettings:
             filtered levels (round r = update // refresh_every, its own seed), so a run sees an endless stream of
             levels that no-op and random play do not solve, at the cost of one pool's generation per round; 0:
             the pool is generated once.
+        fresh_like: source 'fresh': draw each level like one of these sizes (equal shares) in `env.size`'s slots:
+            `[s, m]` at size m trains one agent on s- and m-like levels at once. Empty: like `env.size`.
     """
 
     source: LevelSource = "generated"
@@ -288,10 +303,15 @@ class LevelSettings:
     pool_size: int = 4096
     pool_chunk: int = 1024
     refresh_every: int = 0
+    fresh_like: tuple[str, ...] = ()
 
     def __post_init__(self):
         _check_types(self)
         _within(self, "pool_size", 1, 10**8)
+        if self.fresh_like:
+            _require(self, "fresh_like", self.source == "fresh", "is only used when levels.source is 'fresh'")
+            unknown = [n for n in self.fresh_like if n not in SIZES]
+            _require(self, "fresh_like", not unknown, f"names no size {unknown}; choose among {', '.join(SIZES)}")
         _within(self, "pool_chunk", 1, 2**20)
         _within(self, "refresh_every", 0, 10**9)
         if self.refresh_every:
@@ -422,6 +442,17 @@ class ExperimentConfig:
             raise ConfigError(
                 f"model.name: {self.model.name!r} needs env.observation {' or '.join(map(repr, allowed))}, "
                 f"got {self.env.observation!r}"
+            )
+        if self.run.policy_temperature != 1.0 and self.env.action not in ("multi-discrete", "discrete"):
+            raise ConfigError(
+                f"run.policy_temperature: softens discrete actions' logits; env.action {self.env.action!r} has none"
+            )
+        order = list(SIZES)
+        larger = [n for n in self.levels.fresh_like if order.index(n) > order.index(self.env.size)]
+        if larger:
+            raise ConfigError(
+                f"levels.fresh_like: {larger} are larger than env.size {self.env.size!r}; a level is drawn in the "
+                "slots of env.size, so raise env.size to the largest"
             )
 
 

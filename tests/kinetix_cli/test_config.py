@@ -276,6 +276,12 @@ def test_missing_file_bad_yaml_and_bad_top_level_name_the_file(tmp_path):
         ("levels:\n  source: files\n", "levels.files: must list at least one level file"),
         ("levels:\n  files: [a.json]\n", "levels.files: is only used when levels.source is 'files'"),
         ("levels:\n  pool_size: 0\n", "levels.pool_size: must be >= 1"),
+        ("levels:\n  fresh_like: [s]\n", "levels.fresh_like: is only used when levels.source is 'fresh'"),
+        ("levels:\n  source: fresh\n  fresh_like: [s, xl]\n", "levels.fresh_like: names no size ['xl']"),
+        (
+            "env:\n  size: m\nlevels:\n  source: fresh\n  fresh_like: [s, l]\n",
+            "levels.fresh_like: ['l'] are larger than env.size 'm'",
+        ),
     ],
 )
 def test_validation_errors_are_clear(tmp_path, text, expected):

@@ -39,9 +39,10 @@ class FreshLevels:
     sampler: SamplerConfig
 
     @classmethod
-    def for_size(cls, static: Static, size: str) -> FreshLevels:
-        """The reference distribution of `size` (nothing fixed at size s)."""
-        return cls(static, default_config(size))
+    def for_size(cls, static: Static, size: str, like: tuple[str, ...] = ()) -> FreshLevels:
+        """The reference distribution of `size` (nothing fixed at size s), or with `like` a mix of levels like
+        those sizes in `size`'s slots (`SamplerConfig.like`)."""
+        return cls(static, dataclasses.replace(default_config(size), like=tuple(like)))
 
     def __call__(self, key: jax.Array, count: int) -> Level:
         return fresh_levels(self.static, self.sampler, key, count)

@@ -30,6 +30,7 @@ from engine import (
     ARENA_TOP,
     FLOOR_TOP,
     NUM_ARENA_POLYGONS,
+    SIZES,
     Scene,
     Static,
     collidable_pairs,
@@ -70,6 +71,10 @@ class SamplerConfig:
         thruster_com_prob: a thruster pushes through the centre of mass (else in a uniform direction).
         swap_prob: probability that green and blue swap roles.
         density, friction, restitution: material of every new shape.
+        like: draw each level like one of these sizes, each equally likely, in the slots of the static it is
+            sampled for (no larger than it): that size's fill tries (`P + C - 7`) and extra thruster tries
+            (`T - 1`), nothing fixed when like 's' (then `fixate` is ignored). Empty: like the static's own size.
+            One compile serves the mix, so a single run trains on levels of several sizes at once.
     """
 
     floor_roles: tuple[float, float, float, float] = (0.90, 0.0, 0.02, 0.08)
@@ -98,6 +103,7 @@ class SamplerConfig:
     density: float = 1.0
     friction: float = 1.0
     restitution: float = 0.0
+    like: tuple[str, ...] = ()
 
 
 def default_config(size: str) -> SamplerConfig:
@@ -233,8 +239,12 @@ def random_role(config: SamplerConfig, key: jax.Array, draft: Draft, may_be_red)
 # --- additions -----------------------------------------------------------------------------------
 
 
-def add_free_shape(static: Static, config: SamplerConfig, key: jax.Array, draft: Draft, role=None, x_range=None):
-    """A free shape anywhere in the arena (or in `x_range`), fixed with a probability growing with its mass."""
+def add_free_shape(
+    static: Static, config: SamplerConfig, key: jax.Array, draft: Draft, role=None, x_range=None, fixate=None
+):
+    """A free shape anywhere in the arena (or in `x_range`), fixed with a probability growing with its mass when
+    `fixate` (default: `config.fixate`)."""
+    fixate = config.fixate if fixate is None else fixate
 
     def propose(k, d):
         k_shape, k_pos, k_angle, k_fix, k_role = jax.random.split(k, 5)
@@ -244,7 +254,7 @@ def add_free_shape(static: Static, config: SamplerConfig, key: jax.Array, draft:
         position = sample_position(k_pos, shape.extent(), x_range or (0.0, WORLD))
         angle = jax.random.uniform(k_angle, maxval=2 * math.pi)
         p_fixed = jnp.minimum(1.0, config.fixate_base + config.fixate_per_kg * shape.mass(config.density))
-        fixed = config.fixate & jax.random.bernoulli(k_fix, p_fixed)
+        fixed = fixate & jax.random.bernoulli(k_fix, p_fixed)
         new_role = random_role(config, k_role, d, True) if role is None else role
         return place_body(d, slot, shape, position, angle, new_role, fixed, config), available
 
@@ -358,9 +368,26 @@ def role_mask(draft: Draft, *roles: int) -> jax.Array:
     return bodies.active & jnp.isin(bodies.role, jnp.array(roles))
 
 
+def size_recipe(static: Static, config: SamplerConfig, key: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """(fill tries, extra thruster tries, whether free shapes may be fixed) of one level: those of `static`'s own
+    size, or of a size drawn from `config.like`."""
+    own = (static.num_polygons + static.num_circles - 7, static.num_thrusters - 1)
+    if not config.like:
+        return jnp.int32(own[0]), jnp.int32(own[1]), jnp.asarray(config.fixate)
+    recipes = [(SIZES[n].num_polygons + SIZES[n].num_circles - 7, SIZES[n].num_thrusters - 1) for n in config.like]
+    for name, recipe in zip(config.like, recipes, strict=True):
+        if recipe[0] > own[0] or recipe[1] > own[1]:
+            raise ValueError(f"levels like size {name!r} do not fit the slots of a smaller size")
+    pick = jax.random.randint(key, (), 0, len(config.like))
+    table = jnp.array(recipes)
+    fixate = jnp.array([n != "s" for n in config.like])
+    return table[pick, 0], table[pick, 1], fixate[pick]
+
+
 def sample_level(static: Static, config: SamplerConfig, key: jax.Array) -> Level:
     """One random level of size `static` (see the module docstring for the recipe)."""
     keys = iter(jax.random.split(key, 12))
+    fill_tries, thruster_tries, fixate = size_recipe(static, config, jax.random.fold_in(key, 1))
     zero = jnp.zeros((), jnp.int32)
     draft = Draft(jax.tree.map(jnp.asarray, empty_level(static)), zero, zero, zero, zero)
 
@@ -377,8 +404,8 @@ def sample_level(static: Static, config: SamplerConfig, key: jax.Array) -> Level
     halves = jax.random.bernoulli(next(keys), config.halves_prob)
     left = (0.0, jnp.where(halves, WORLD / 2, WORLD))
     right = (jnp.where(halves, WORLD / 2, 0.0), WORLD)
-    draft = add_free_shape(static, config, next(keys), draft, role=GREEN, x_range=left)
-    draft = add_free_shape(static, config, next(keys), draft, role=BLUE, x_range=right)
+    draft = add_free_shape(static, config, next(keys), draft, role=GREEN, x_range=left, fixate=fixate)
+    draft = add_free_shape(static, config, next(keys), draft, role=BLUE, x_range=right, fixate=fixate)
     draft = unfix_one_of_green_blue(next(keys), draft)
 
     # 3. forced control: 0 thruster, 1 motor, 2 both
@@ -390,30 +417,35 @@ def sample_level(static: Static, config: SamplerConfig, key: jax.Array) -> Level
     draft = jax.tree.map(lambda a, b: jnp.where(control != 1, a, b), with_thruster, draft)
 
     # 4. fill tries: a connected shape, a free shape or nothing (one compiled body, scanned)
-    def fill(d: Draft, k: jax.Array) -> tuple[Draft, None]:
+    def fill(d: Draft, try_key: tuple[jax.Array, jax.Array]) -> tuple[Draft, None]:
+        i, k = try_key
         k_pick, k_add = jax.random.split(k)
         u = jax.random.uniform(k_pick)
         shapes = d.level.physics.bodies.active.at[:NUM_ARENA_POLYGONS].set(False)
         connected = add_connected_shape(static, config, k_add, d, shapes)
-        free = add_free_shape(static, config, k_add, d)
+        free = add_free_shape(static, config, k_add, d, fixate=fixate)
         pick = jnp.where(u < config.connected_prob, 0, jnp.where(u < config.connected_prob + config.free_prob, 1, 2))
+        pick = jnp.where(i < fill_tries, pick, 2)  # a try beyond this level's count adds nothing
         return jax.tree.map(lambda *x: jnp.stack(x)[pick], connected, free, d), None
 
-    fill_tries = static.num_polygons + static.num_circles - 7
-    if fill_tries > 0:
-        draft, _ = jax.lax.scan(fill, draft, jax.random.split(next(keys), fill_tries))
+    max_fill = static.num_polygons + static.num_circles - 7
+    if max_fill > 0:
+        draft, _ = jax.lax.scan(fill, draft, (jnp.arange(max_fill), jax.random.split(next(keys), max_fill)))
 
     # 5. extra thrusters
-    def extra_thruster(d: Draft, k: jax.Array) -> tuple[Draft, None]:
+    def extra_thruster(d: Draft, try_key: tuple[jax.Array, jax.Array]) -> tuple[Draft, None]:
+        i, k = try_key
         k_try, k_add = jax.random.split(k)
         shapes = d.level.physics.bodies.active.at[:NUM_ARENA_POLYGONS].set(False)
         more = add_thruster(static, config, k_add, d, shapes)
-        return jax.tree.map(
-            lambda a, b: jnp.where(jax.random.bernoulli(k_try, config.thruster_prob), a, b), more, d
-        ), None
+        add = jax.random.bernoulli(k_try, config.thruster_prob) & (i < thruster_tries)
+        return jax.tree.map(lambda a, b: jnp.where(add, a, b), more, d), None
 
-    if static.num_thrusters > 1:
-        draft, _ = jax.lax.scan(extra_thruster, draft, jax.random.split(next(keys), static.num_thrusters - 1))
+    max_thrusters = static.num_thrusters - 1
+    if max_thrusters > 0:
+        draft, _ = jax.lax.scan(
+            extra_thruster, draft, (jnp.arange(max_thrusters), jax.random.split(next(keys), max_thrusters))
+        )
 
     # 6. swap green and blue; 7. shuffle slots
     level = swap_green_blue(draft.level, jax.random.bernoulli(next(keys), config.swap_prob))

@@ -21,7 +21,7 @@ def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
     """The in-graph sampler of source 'fresh', else None."""
     if config.levels.source != "fresh":
         return None
-    return FreshLevels.for_size(SIZES[config.env.size], config.env.size)
+    return FreshLevels.for_size(SIZES[config.env.size], config.env.size, like=config.levels.fresh_like)
 
 
 def pool_seed(run_seed: int, round: int) -> int:

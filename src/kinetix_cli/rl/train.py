@@ -35,6 +35,7 @@ from flax import traverse_util
 from kinetix_cli.config import (
     CONFIG_FILENAME,
     ExperimentConfig,
+    RunSettings,
     config_to_dict,
     load_config,
     save_config,
@@ -156,7 +157,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from).params
     if init_params is not None:
-        runner = _with_params(runner, replicate(init_params, mesh), settings, origin, config.run.fresh_policy_head)
+        runner = _with_params(runner, replicate(init_params, mesh), settings, origin, config.run)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
         with checkpoint_manager(run_dir, read_only=True) as reader:
@@ -293,16 +294,20 @@ def finetune_config(
     return load_config(path, [*settings, *overrides])
 
 
-def _with_params(runner: Runner, params, settings, origin: str, fresh_policy_head: bool = False) -> Runner:
+def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings) -> Runner:
     """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match (else an
-    error naming `origin`, the flag or key and where the parameters came from). With `fresh_policy_head` the
-    actor's output layer keeps the runner's own fresh initialisation."""
+    error naming `origin`, the flag or key and where the parameters came from). With `run.fresh_policy_head` the
+    actor's output layer keeps the runner's own fresh initialisation; `run.policy_temperature` scales it by
+    1 / temperature (logits divided by it)."""
     why = tree_mismatch(runner.params, params)
     if why is not None:
         raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings ({why})")
     params = jax.tree.map(jnp.asarray, params)
-    if fresh_policy_head:
+    if run.fresh_policy_head:
         params = _replace_subtrees(params, runner.params, POLICY_HEAD)
+    if run.policy_temperature != 1.0:
+        scaled = jax.tree.map(lambda x: x / run.policy_temperature, params)
+        params = _replace_subtrees(params, scaled, POLICY_HEAD)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import chex
@@ -13,7 +14,14 @@ import pytest
 import engine
 from engine import NUM_ARENA_POLYGONS, SIZES, Params, rotate
 from kinetix_cli.constants import BLUE, GREEN, RED
-from kinetix_cli.generator.sampler import compact_slots, default_config, is_valid, sample_level
+from kinetix_cli.generator.sampler import (
+    SamplerConfig,
+    compact_slots,
+    default_config,
+    is_valid,
+    sample_level,
+    size_recipe,
+)
 
 BATCH = 64
 
@@ -84,6 +92,36 @@ def test_sampling_is_pure_and_compiles_once():
     a, b, again = one(jax.random.key(1)), one(jax.random.key(2)), one(jax.random.key(1))
     chex.assert_trees_all_equal(a, again)
     assert not np.array_equal(a.physics.bodies.position, b.physics.bodies.position)
+
+
+def test_a_size_mix_draws_each_listed_sizes_recipe():
+    draw = jax.jit(jax.vmap(functools.partial(size_recipe, SIZES["m"], SamplerConfig(like=("s", "m")))))
+    fill, thrusters, fixate = jax.device_get(draw(jax.random.split(jax.random.key(0), 400)))
+    drawn = set(zip(fill.tolist(), thrusters.tolist(), fixate.tolist(), strict=True))
+    assert drawn == {(0, 0, False), (2, 1, True)}, "like s: no fill, no extra thruster, nothing fixed; like m: m's"
+    assert 0.4 < fixate.mean() < 0.6, "equal shares"
+    own = size_recipe(SIZES["m"], default_config("m"), jax.random.key(0))
+    assert tuple(map(int, own[:2])) == (2, 1) and bool(own[2])
+    with pytest.raises(ValueError, match="like size 'l' do not fit"):
+        size_recipe(SIZES["m"], SamplerConfig(like=("s", "l")), jax.random.key(0))
+
+
+@pytest.mark.slow  # compiles the size-m sampler twice (~60 s)
+def test_levels_like_s_in_m_slots_and_like_m_unchanged():
+    keys = jax.random.split(jax.random.key(7), BATCH)
+    static = SIZES["m"]
+    draw_like_s = jax.jit(jax.vmap(functools.partial(sample_level, static, SamplerConfig(like=("s",)))))
+    like_s = jax.device_get(draw_like_s(keys))
+    bodies, thrusters = like_s.physics.bodies, like_s.physics.thrusters
+    shapes = bodies.active[:, NUM_ARENA_POLYGONS:]
+    assert (shapes.sum(1) <= 3).all(), "green, blue and at most a motor's shape: no fill tries"
+    assert (thrusters.active.sum(1) <= 1).all() and not (shapes & bodies.fixed[:, NUM_ARENA_POLYGONS:]).any()
+    assert jax.jit(jax.vmap(functools.partial(is_valid, static)))(like_s).all()
+    like_m = jax.jit(
+        jax.vmap(functools.partial(sample_level, static, dataclasses.replace(default_config("m"), like=("m",))))
+    )
+    # the same stream: a separately compiled program may round a float differently in its last bit
+    chex.assert_trees_all_close(like_m(keys), batch("m"), rtol=1e-5, atol=1e-6)
 
 
 @pytest.mark.slow  # a compile of ~25 s per size; `make test` steps generated scenes in test_filters and test_fresh

@@ -167,6 +167,30 @@ def test_a_fresh_policy_head_forgets_the_loaded_habit_and_keeps_the_rest(tmp_pat
         tiny_config("run.fresh_policy_head=true")
 
 
+def test_a_policy_temperature_softens_the_loaded_habit(tmp_path, tiny_run, tiny_pool):
+    loaded = load_policy(tiny_run).params
+    heads = loaded["params"]["ActorCriticHeads_0"]
+    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}
+    habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0
+    softened = train(
+        tiny_config(f"run.init_from={tiny_run}", "run.policy_temperature=1000"),
+        tmp_path / "soft",
+        pool=tiny_pool,
+        init_params=habit,
+    )
+    # logits / 1000 undo the x1000: the loaded network's entropy (tiny_run's own, six updates from a new one)
+    assert metrics(tmp_path / "soft")[0]["entropy"] == pytest.approx(metrics(tiny_run)[0]["entropy"], rel=0.05)
+    head = softened.params["params"]["ActorCriticHeads_0"]["actor_head"]
+    moved = jax.tree.map(lambda a, b: float(np.abs(a - b).max()), head, heads["actor_head"])
+    assert max(jax.tree.leaves(moved)) < 0.01
+    with pytest.raises(UserError, match="run.policy_temperature: needs run.init_from"):
+        tiny_config("run.policy_temperature=3")
+    with pytest.raises(UserError, match="with run.fresh_policy_head there is none"):
+        tiny_config(f"run.init_from={tiny_run}", "run.fresh_policy_head=true", "run.policy_temperature=3")
+    with pytest.raises(UserError, match="env.action 'continuous' has none"):
+        tiny_config(f"run.init_from={tiny_run}", "env.action=continuous", "run.policy_temperature=3")
+
+
 def test_a_saved_config_rebuilds_the_run(tiny_run):
     assert load_config(tiny_run / "config.yaml") == tiny_config()
     assert json.loads((tiny_run / "versions.json").read_text())["format"] == "kinetix-versions/1"
