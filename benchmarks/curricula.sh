@@ -25,6 +25,8 @@ config=${CONFIG:-experiments/cpu-small.yaml}
 size=${SIZE:-s}
 envs=${ENVS:-256}
 suites=${SUITES:-levels/$size .cache/reference-levels/$size}
+sets=()
+for s in ${SETS:-}; do sets+=(--set "$s"); done
 mkdir -p "$out"
 for curriculum in ${CURRICULA:-dr sfl plr accel}; do
   for seed in ${SEEDS:-0 1 2}; do
@@ -35,7 +37,7 @@ for curriculum in ${CURRICULA:-dr sfl plr accel}; do
       --set "curriculum.buffer_size=${PLR_BUFFER:-512}")
     common=(--config "$config" --set env.size="$size" --set levels.source=fresh --set "curriculum.name=$curriculum"
       --set "run.seed=$seed" --set "run.eval_every=${EVAL_EVERY:-0}" --set "run.eval_levels=[${EVAL_LEVELS:-levels/$size}]"
-      "${shape[@]}")
+      "${shape[@]}" "${sets[@]}")
     steps=$("$python" "$(dirname "$0")/curricula_summary.py" --training-steps "$budget" "${common[@]}")
     if [ -d "$dir" ]; then
       "$kinetix" pretrain --run-dir "$dir" --resume "${common[@]}" --set "ppo.total_timesteps=$steps"
