@@ -10,6 +10,9 @@ one compile serves every key:
 5. `T - 1` tries to add another thruster;
 6. green and blue swap roles with probability 1/2; 7. the entity slots are shuffled.
 
+With `SamplerConfig.like` a level is drawn like a smaller size in this size's slots: that size's counts of tries
+(and nothing fixed when like s), drawn per level, so one compile serves a mix of sizes.
+
 Every addition draws `candidates` proposals and keeps the one with the fewest overlapping contact points; an
 addition whose best proposal still penetrates deeper than `max_penetration`, or that finds no free slot, is
 skipped. `is_valid` says whether the result is a task (green and blue present, a working actuator).
@@ -368,13 +371,18 @@ def role_mask(draft: Draft, *roles: int) -> jax.Array:
     return bodies.active & jnp.isin(bodies.role, jnp.array(roles))
 
 
+def tries(static: Static) -> tuple[int, int]:
+    """(fill tries, extra thruster tries) of a level of size `static`: `P + C - 7` and `T - 1`."""
+    return static.num_polygons + static.num_circles - 7, static.num_thrusters - 1
+
+
 def size_recipe(static: Static, config: SamplerConfig, key: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
     """(fill tries, extra thruster tries, whether free shapes may be fixed) of one level: those of `static`'s own
     size, or of a size drawn from `config.like`."""
-    own = (static.num_polygons + static.num_circles - 7, static.num_thrusters - 1)
+    own = tries(static)
     if not config.like:
         return jnp.int32(own[0]), jnp.int32(own[1]), jnp.asarray(config.fixate)
-    recipes = [(SIZES[n].num_polygons + SIZES[n].num_circles - 7, SIZES[n].num_thrusters - 1) for n in config.like]
+    recipes = [tries(SIZES[name]) for name in config.like]
     for name, recipe in zip(config.like, recipes, strict=True):
         if recipe[0] > own[0] or recipe[1] > own[1]:
             raise ValueError(f"levels like size {name!r} do not fit the slots of a smaller size")
@@ -428,7 +436,7 @@ def sample_level(static: Static, config: SamplerConfig, key: jax.Array) -> Level
         pick = jnp.where(i < fill_tries, pick, 2)  # a try beyond this level's count adds nothing
         return jax.tree.map(lambda *x: jnp.stack(x)[pick], connected, free, d), None
 
-    max_fill = static.num_polygons + static.num_circles - 7
+    max_fill, max_thrusters = tries(static)
     if max_fill > 0:
         draft, _ = jax.lax.scan(fill, draft, (jnp.arange(max_fill), jax.random.split(next(keys), max_fill)))
 
@@ -441,7 +449,6 @@ def sample_level(static: Static, config: SamplerConfig, key: jax.Array) -> Level
         add = jax.random.bernoulli(k_try, config.thruster_prob) & (i < thruster_tries)
         return jax.tree.map(lambda a, b: jnp.where(add, a, b), more, d), None
 
-    max_thrusters = static.num_thrusters - 1
     if max_thrusters > 0:
         draft, _ = jax.lax.scan(
             extra_thruster, draft, (jnp.arange(max_thrusters), jax.random.split(next(keys), max_thrusters))
