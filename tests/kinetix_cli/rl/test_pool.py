@@ -10,9 +10,10 @@ import jax
 import numpy as np
 import pytest
 
+from engine import SIZES
 from helpers.runs import tiny_config
 from kinetix_cli.config import ConfigError
-from kinetix_cli.rl.pool import level_pool, pool_seed
+from kinetix_cli.rl.pool import fresh_source, level_pool, pool_seed
 from kinetix_cli.rl.train import train
 
 REFRESHED = [
@@ -50,3 +51,10 @@ def test_a_refreshed_pool_trains_on_new_levels_each_round_and_resumes_bit_identi
 def test_refresh_needs_a_generated_pool():
     with pytest.raises(ConfigError, match="levels.refresh_every: is only used when levels.source is 'generated'"):
         tiny_config("levels.refresh_every=2")
+
+
+def test_a_fresh_source_draws_the_configured_size_mix():
+    config = tiny_config("levels.source=fresh", "levels.files=[]", "env.size=m", "levels.fresh_like=[s,m]")
+    source = fresh_source(config)
+    assert source.static == SIZES["m"] and source.sampler.like == ("s", "m")
+    assert fresh_source(tiny_config("levels.source=fresh", "levels.files=[]")).sampler.like == ()
