@@ -236,6 +236,9 @@ class RunSettings:
         policy_temperature: fine-tuning only, discrete actions: the loaded actor's logits are divided by this at
             the start (its output layer's weights and bias scaled by 1 / this), so a near-deterministic agent
             explores again while its preferences keep their order; 1 (default) loads the actor as it is.
+        fresh_critic: fine-tuning only: the critic (its MLP and output layer) starts freshly initialised while the
+            shared features and the actor keep the loaded parameters; the loaded value estimates were learned on
+            other levels.
         minutes: a wall-clock budget [min]: the run ends after the update during which its training time (the
             updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
             checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
@@ -252,6 +255,7 @@ class RunSettings:
     init_from: str | None = None
     fresh_policy_head: bool = False
     policy_temperature: float = 1.0
+    fresh_critic: bool = False
     minutes: float = 0.0
 
     def __post_init__(self):
@@ -259,6 +263,7 @@ class RunSettings:
         _within(self, "seed", 0, INT32_MAX)
         _within(self, "minutes", 0, 10**7)  # 0: no budget
         _require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
+        _require(self, "fresh_critic", self.init_from or not self.fresh_critic, "needs run.init_from")
         _within(self, "policy_temperature", 1e-3, 1e3)
         if self.policy_temperature != 1.0:
             _require(self, "policy_temperature", self.init_from, "needs run.init_from")

@@ -239,6 +239,9 @@ def collect(
     return runner, transitions, finished_return
 
 
+LOSS_METRICS = ("loss", "policy_loss", "value_loss", "entropy", "approx_kl")  # what `learn` measures
+
+
 def learn(
     runner: Runner, transitions: Transition, advantages, targets, *, network: nn.Module, settings: PPOSettings
 ) -> tuple[Runner, dict]:

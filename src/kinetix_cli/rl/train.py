@@ -65,7 +65,7 @@ from kinetix_cli.rl.checkpoints import (
     save_runner,
     writing,
 )
-from kinetix_cli.rl.curricula.plr import plr_update
+from kinetix_cli.rl.curricula import plr
 from kinetix_cli.rl.curricula.sfl import refresh_buffer, sfl_update
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import make_network
@@ -144,7 +144,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
     parts = {"env": env, "network": network, "settings": settings, "fresh": fresh}
     if curriculum.name in ("plr", "accel"):
-        update = functools.partial(plr_update, **parts, curriculum=curriculum)
+        update = functools.partial(plr.plr_update, **parts, curriculum=curriculum)
     elif sfl:
         update = functools.partial(sfl_update, **parts, curriculum=curriculum)
     else:
@@ -195,6 +195,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                 runner = runner.replace(buffer=scored)
             runner, metrics = update(runner, env_params, pool)
             metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
+            metrics = plr.logged(metrics) if curriculum.name in ("plr", "accel") else metrics
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
@@ -298,7 +299,7 @@ def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings
     """The runner with `params` (from a checkpoint) and a fresh optimiser state; the network must match (else an
     error naming `origin`, the flag or key and where the parameters came from). With `run.fresh_policy_head` the
     actor's output layer keeps the runner's own fresh initialisation; `run.policy_temperature` scales it by
-    1 / temperature (logits divided by it)."""
+    1 / temperature (logits divided by it); with `run.fresh_critic` the critic keeps the runner's own."""
     why = tree_mismatch(runner.params, params)
     if why is not None:
         raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings ({why})")
@@ -308,11 +309,16 @@ def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings
     if run.policy_temperature != 1.0:
         scaled = jax.tree.map(lambda x: x / run.policy_temperature, params)
         params = _replace_subtrees(params, scaled, POLICY_HEAD)
+    if run.fresh_critic:
+        for name in CRITIC:
+            params = _replace_subtrees(params, runner.params, name)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
 
 
 POLICY_HEAD = "actor_head"
 """The parameter scope of every model's policy output layer (`networks.ActorCriticHeads`)."""
+CRITIC = ("critic", "critic_head")
+"""The parameter scopes of every model's critic: its MLP and its output layer (`networks.ActorCriticHeads`)."""
 
 
 def _replace_subtrees(params: dict, fresh: dict, name: str) -> dict:

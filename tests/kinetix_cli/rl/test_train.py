@@ -191,6 +191,29 @@ def test_a_policy_temperature_softens_the_loaded_habit(tmp_path, tiny_run, tiny_
         tiny_config(f"run.init_from={tiny_run}", "env.action=continuous", "run.policy_temperature=3")
 
 
+def test_a_fresh_critic_forgets_the_loaded_values_and_keeps_the_rest(tmp_path, tiny_run, tiny_pool):
+    def split(params):
+        heads = params["params"]["ActorCriticHeads_0"]
+        critic = {k: heads[k] for k in ("critic", "critic_head")}
+        return critic, {**params["params"], "ActorCriticHeads_0": {k: v for k, v in heads.items() if k not in critic}}
+
+    def distance(a, b):
+        return max(float(np.abs(x - y).max()) for x, y in zip(jax.tree.leaves(a), jax.tree.leaves(b), strict=True))
+
+    loaded = load_policy(tiny_run).params
+    heads = loaded["params"]["ActorCriticHeads_0"]
+    wild = {k: jax.tree.map(lambda x: 1000 * x, heads[k]) for k in ("critic", "critic_head")}  # values from elsewhere
+    other = {"params": {**loaded["params"], "ActorCriticHeads_0": {**heads, **wild}}}
+    config = tiny_config(f"run.init_from={tiny_run}", "run.fresh_critic=true")
+    tuned = train(config, tmp_path / "c", pool=tiny_pool, init_params=other)
+    critic, rest = split(tuned.params)
+    # the critic starts from this run's own initialisation (seed 0, tiny_run's: six updates away), not the x1000
+    assert distance(critic, split(loaded)[0]) < 0.02
+    assert distance(rest, split(other)[1]) < 0.01  # actor and features kept
+    with pytest.raises(UserError, match="run.fresh_critic: needs run.init_from"):
+        tiny_config("run.fresh_critic=true")
+
+
 def test_a_saved_config_rebuilds_the_run(tiny_run):
     assert load_config(tiny_run / "config.yaml") == tiny_config()
     assert json.loads((tiny_run / "versions.json").read_text())["format"] == "kinetix-versions/1"

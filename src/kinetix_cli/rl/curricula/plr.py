@@ -24,7 +24,7 @@ from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.generator.mutate import mutate_level
 from kinetix_cli.parallel import batch_sharded
 from kinetix_cli.rl.buffer import LevelBuffer, top_levels
-from kinetix_cli.rl.ppo import Runner, collect, gae, learn, rollout_metrics
+from kinetix_cli.rl.ppo import LOSS_METRICS, Runner, collect, gae, learn, rollout_metrics
 
 
 def replay_probabilities(buffer: LevelBuffer, update: jax.Array, curriculum: CurriculumSettings) -> jax.Array:
@@ -122,7 +122,8 @@ def plr_update(
     ACCEL also `edits`-fold mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
     these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
     picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
-    Metrics: those of `ppo_update` (losses 0 when nothing was trained), `replay` and `mutate` (1 or 0)."""
+    Metrics: those of `ppo_update` (losses 0 when nothing was trained: `logged` drops them), `replay` and
+    `mutate` (1 or 0)."""
     n = settings.num_envs
     buffer = runner.buffer
     key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
@@ -166,3 +167,11 @@ def plr_update(
     runner = runner.replace(buffer=buffer, update=runner.update + 1).placed()
     modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
     return runner, rollout_metrics(transitions, finished_return, losses) | modes
+
+
+def logged(metrics: dict) -> dict:
+    """An update's metrics as the run logs them: a round that trained nothing (new levels or mutations) carries no
+    losses, entropy or KL, so their curves show only the updates that learned."""
+    if metrics["replay"]:
+        return metrics
+    return {k: v for k, v in metrics.items() if k not in LOSS_METRICS}

@@ -92,6 +92,13 @@ class Crash(Exception):
     pass
 
 
+def test_a_round_that_trained_nothing_is_logged_without_losses():
+    trained = {"replay": 1.0, "mutate": 0.0, "solve_rate": 0.5, "loss": 0.1, "entropy": 1.2, "approx_kl": 0.01}
+    scored = trained | {"replay": 0.0, "loss": 0.0, "entropy": 0.0, "approx_kl": 0.0}
+    assert plr.logged(trained) == trained
+    assert plr.logged(scored) == {"replay": 0.0, "mutate": 0.0, "solve_rate": 0.5}  # no entropy of 0 in the curves
+
+
 # make test-all: a PLR run compiles ~40 s (make test stays under 8 minutes); the replay, scores and insert logic are
 # tested above, and an SFL run trains and resumes in make test (test_sfl)
 @pytest.mark.slow
@@ -105,7 +112,7 @@ def test_a_plr_run_trains_only_on_replays_and_resumes_bit_identically(tmp_path, 
     mutations = [r["mutate"] for r in records]
     assert (1.0 in mutations) == (name == "accel") and not any(r["replay"] and r["mutate"] for r in records)
     for r in records:
-        assert (r["loss"] == 0.0) == (r["replay"] == 0.0)  # new levels are scored, not trained on
+        assert ("loss" in r and r["loss"] != 0.0) == (r["replay"] == 1.0)  # new levels are scored, not trained on
         assert r["scoring_steps"] == 64 * sum(1 - x["replay"] for x in records if x["update"] <= r["update"])
         assert r["total_steps"] == r["steps"] and r["scoring_share"] == r["scoring_steps"] / r["steps"]
     assert records[-1]["buffer_size"] == 8
