@@ -5,7 +5,7 @@
 # Otherwise the finetuned arm of benchmarks/finetune-v2-cpu-2026-11-26/ft-v2.sh and
 # benchmarks/demo-level-cpu-2026-11-27/demo-two-link.sh: 200K steps, entropy 0.05 -> 0.01, seeds 0-2, 50 attempts at
 # evaluation seed 1000; the scratch and plain fine-tuned arms are those runs' (same settings and seeds).
-#   ARM=critic LEVELS="levels/s/rocket-car-jump.json" benchmarks/finetune-v2-parts-cpu-2026-11-27/ft-v2-parts.sh
+#   ARM=critic SEEDS="0 1 2" LEVELS="levels/s/rocket-car-jump.json" benchmarks/finetune-v2-parts-cpu-2026-11-27/ft-v2-parts.sh
 set -euo pipefail
 arm=${ARM:?ARM=critic or ARM=features}
 case $arm in
@@ -19,7 +19,7 @@ levels/m/two-link-reach.json levels/s/pad-to-pad.json .cache/reference-levels/s/
 levels/s/jet-ball-hop.json}
 for level in $levels; do
   name=$(basename "$level" .json)
-  for seed in 0 1 2; do
+  for seed in ${SEEDS:-0 1 2}; do
     dir=$out/$name/$arm-$seed
     [ -f "$dir/eval.json" ] && continue
     rm -rf "$dir"
