@@ -239,6 +239,10 @@ class RunSettings:
         fresh_critic: fine-tuning only: the critic (its MLP and output layer) starts freshly initialised while the
             shared features and the actor keep the loaded parameters; the loaded value estimates were learned on
             other levels.
+        restart_unsolved_after: fine-tuning only: if no training episode was solved in the first this many updates,
+            the run starts again from the loaded features alone (a fresh policy head and critic, a new optimiser
+            state) for the rest of its budget, logging `restarted` at that update: for levels where the loaded
+            habit finds no reward [updates]; 0 (default): never.
         minutes: a wall-clock budget [min]: the run ends after the update during which its training time (the
             updates' own seconds, curriculum scoring included, evaluations and checkpoints not) passes it, with a
             checkpoint and an evaluation as at the end; `ppo.total_timesteps` still caps it. 0: no budget. For
@@ -256,6 +260,7 @@ class RunSettings:
     fresh_policy_head: bool = False
     policy_temperature: float = 1.0
     fresh_critic: bool = False
+    restart_unsolved_after: int = 0
     minutes: float = 0.0
 
     def __post_init__(self):
@@ -264,6 +269,9 @@ class RunSettings:
         _within(self, "minutes", 0, 10**7)  # 0: no budget
         _require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
         _require(self, "fresh_critic", self.init_from or not self.fresh_critic, "needs run.init_from")
+        _within(self, "restart_unsolved_after", 0, INT32_MAX)  # 0: never
+        restarts = bool(self.restart_unsolved_after)
+        _require(self, "restart_unsolved_after", self.init_from or not restarts, "needs run.init_from")
         _within(self, "policy_temperature", 1e-3, 1e3)
         if self.policy_temperature != 1.0:
             _require(self, "policy_temperature", self.init_from, "needs run.init_from")

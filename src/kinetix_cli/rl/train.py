@@ -156,7 +156,11 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     origin = f"--from {config.run.init_from}" if init_params is not None else f"run.init_from {config.run.init_from}"
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from).params
+    restart_at, fallback = config.run.restart_unsolved_after, None
     if init_params is not None:
+        if restart_at:  # what the run starts again from if its first updates solve nothing: the features alone
+            alone = dataclasses.replace(config.run, fresh_policy_head=True, fresh_critic=True, policy_temperature=1.0)
+            fallback = _with_params(runner, replicate(init_params, mesh), settings, origin, alone)
         runner = _with_params(runner, replicate(init_params, mesh), settings, origin, config.run)
     start = 0
     if resume and (run_dir / CHECKPOINTS).is_dir():
@@ -184,6 +188,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     budget = config.run.minutes * 60  # 0: none; the primary's clock decides for every process
     trained = _trained_seconds(run_dir / METRICS_FILE, settings) if start and primary else 0.0
     spent = bool(budget) and primary_decides("budget", trained >= budget)  # a resumed run that had used it up
+    solved = _solved_episodes(run_dir / METRICS_FILE) if start and primary else 0.0
     with log, writing(manager):
         for u in range(start, start if spent else settings.num_updates):
             tic = time.perf_counter()
@@ -208,6 +213,10 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                     f"{settings.lr:g}, max_grad_norm {settings.max_grad_norm:g}); nothing of this update was kept"
                 )
             trained += seconds
+            solved += metrics["solve_rate"] * metrics["episodes"]
+            if fallback is not None and u + 1 == restart_at and primary_decides("restart", solved == 0):
+                runner = runner.replace(params=fallback.params, opt_state=fallback.opt_state)
+                record["restarted"] = 1.0
             out_of_time = bool(budget) and primary_decides("budget", trained >= budget)
             last = u + 1 == settings.num_updates or out_of_time
             evaluation = None
@@ -396,13 +405,22 @@ def _wandb_run(config: ExperimentConfig, run_dir: Path, resume: bool):
         return None
 
 
+def _logged(path: Path) -> list[dict]:
+    """The update records of a run's `metrics.jsonl` (none before the first)."""
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
+
+
 def _trained_seconds(path: Path, settings) -> float:
     """Training time of the updates logged in `metrics.jsonl` [s], rebuilt from each one's steps per second (what
     `run.minutes` counts, the first update's compile included; a resumed run goes on from it)."""
-    if not path.exists():
-        return 0.0
-    records = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line.strip())
-    return sum(settings.batch_size / record["sps"] for record in records)
+    return sum(settings.batch_size / record["sps"] for record in _logged(path))
+
+
+def _solved_episodes(path: Path) -> float:
+    """Training episodes solved in the updates logged in `metrics.jsonl` (`run.restart_unsolved_after`)."""
+    return sum(record["solve_rate"] * record["episodes"] for record in _logged(path))
 
 
 def _truncate_metrics(path: Path, last_update: int) -> None:

@@ -214,6 +214,28 @@ def test_a_fresh_critic_forgets_the_loaded_values_and_keeps_the_rest(tmp_path, t
         tiny_config("run.fresh_critic=true")
 
 
+def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(tmp_path, tiny_run, tiny_pool):
+    loaded = load_policy(tiny_run).params
+    heads = loaded["params"]["ActorCriticHeads_0"]
+    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}
+    habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0
+    restart = [f"run.init_from={tiny_run}", "run.restart_unsolved_after=2"]
+
+    train(tiny_config(*restart), tmp_path / "solves", pool=tiny_pool, init_params=habit)
+    records = metrics(tmp_path / "solves")
+    assert sum(r["solve_rate"] * r["episodes"] for r in records[:2]) > 0  # the habit solves pad-to-pad: kept
+    assert not any("restarted" in r for r in records)
+
+    stuck = tiny_config(*restart, "levels.files=[levels/s/jet-ball-hop.json]")
+    train(stuck, tmp_path / "stuck", init_params=habit)
+    records = metrics(tmp_path / "stuck")
+    assert sum(r["solve_rate"] * r["episodes"] for r in records[:2]) == 0  # no agent of ours solves jet-ball-hop
+    assert [r.get("restarted") for r in records] == [None, 1.0, None, None, None, None]
+    assert records[2]["entropy"] == pytest.approx(metrics(tiny_run)[0]["entropy"], rel=0.1)  # a fresh head's
+    with pytest.raises(UserError, match="run.restart_unsolved_after: needs run.init_from"):
+        tiny_config("run.restart_unsolved_after=2")
+
+
 def test_a_saved_config_rebuilds_the_run(tiny_run):
     assert load_config(tiny_run / "config.yaml") == tiny_config()
     assert json.loads((tiny_run / "versions.json").read_text())["format"] == "kinetix-versions/1"
