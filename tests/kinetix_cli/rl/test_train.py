@@ -147,15 +147,20 @@ def test_init_from_loads_the_checkpoint_parameters(tmp_path, tiny_run, tiny_pool
     assert distance(tuned.params, loaded) < 0.01 < distance(fresh.params, loaded)
 
 
+def strong_habit(params):
+    """`params` with the actor's output layer x1000: the same preferences, entropy near 0."""
+    heads = params["params"]["ActorCriticHeads_0"]
+    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}
+    return {"params": {**params["params"], "ActorCriticHeads_0": confident}}
+
+
 def test_a_fresh_policy_head_forgets_the_loaded_habit_and_keeps_the_rest(tmp_path, tiny_run, tiny_pool):
     def without_head(params):
         heads = params["params"]["ActorCriticHeads_0"]
         return {**params["params"], "ActorCriticHeads_0": {k: v for k, v in heads.items() if k != "actor_head"}}
 
     loaded = load_policy(tiny_run).params
-    heads = loaded["params"]["ActorCriticHeads_0"]
-    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}  # a strong habit
-    habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0
+    habit = strong_habit(loaded)
     fresh_head = tiny_config(f"run.init_from={tiny_run}", "run.fresh_policy_head=true")
     fresh = train(fresh_head, tmp_path / "fresh", pool=tiny_pool, init_params=habit)
 
@@ -170,8 +175,7 @@ def test_a_fresh_policy_head_forgets_the_loaded_habit_and_keeps_the_rest(tmp_pat
 def test_a_policy_temperature_softens_the_loaded_habit(tmp_path, tiny_run, tiny_pool):
     loaded = load_policy(tiny_run).params
     heads = loaded["params"]["ActorCriticHeads_0"]
-    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}
-    habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0
+    habit = strong_habit(loaded)
     softened = train(
         tiny_config(f"run.init_from={tiny_run}", "run.policy_temperature=1000"),
         tmp_path / "soft",
@@ -216,9 +220,7 @@ def test_a_fresh_critic_forgets_the_loaded_values_and_keeps_the_rest(tmp_path, t
 
 def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(tmp_path, tiny_run, tiny_pool):
     loaded = load_policy(tiny_run).params
-    heads = loaded["params"]["ActorCriticHeads_0"]
-    confident = {**heads, "actor_head": jax.tree.map(lambda x: 1000 * x, heads["actor_head"])}
-    habit = {"params": {**loaded["params"], "ActorCriticHeads_0": confident}}  # logits x1000: entropy near 0
+    habit = strong_habit(loaded)
     restart = [f"run.init_from={tiny_run}", "run.restart_unsolved_after=2"]
 
     train(tiny_config(*restart), tmp_path / "solves", pool=tiny_pool, init_params=habit)
