@@ -460,6 +460,11 @@ class ExperimentConfig:
             raise ConfigError(
                 f"run.policy_temperature: softens discrete actions' logits; env.action {self.env.action!r} has none"
             )
+        if self.run.restart_unsolved_after >= self.ppo.num_updates:
+            raise ConfigError(
+                f"run.restart_unsolved_after: {self.run.restart_unsolved_after} updates is not before the run's last "
+                f"({self.ppo.num_updates}, from ppo.total_timesteps); a restart there would never train"
+            )
         order = list(SIZES)
         larger = [n for n in self.levels.fresh_like if order.index(n) > order.index(self.env.size)]
         if larger:

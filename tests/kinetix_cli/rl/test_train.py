@@ -236,6 +236,8 @@ def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(
     assert records[2]["entropy"] == pytest.approx(metrics(tiny_run)[0]["entropy"], rel=0.1)  # a fresh head's
     with pytest.raises(UserError, match="run.restart_unsolved_after: needs run.init_from"):
         tiny_config("run.restart_unsolved_after=2")
+    with pytest.raises(UserError, match="is not before the run's last"):
+        tiny_config(*restart, "run.restart_unsolved_after=6")  # the tiny run has 6 updates
 
 
 def test_a_saved_config_rebuilds_the_run(tiny_run):
