@@ -240,6 +240,24 @@ def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(
         tiny_config(*restart, "run.restart_unsolved_after=6")  # the tiny run has 6 updates
 
 
+def test_a_resumed_run_remembers_what_its_first_updates_solved(tmp_path, tiny_run, tiny_pool):
+    def crash_after_3(record):
+        if record["update"] == 3:
+            raise Crash
+
+    habit = strong_habit(load_policy(tiny_run).params)
+    config = tiny_config(f"run.init_from={tiny_run}", "run.restart_unsolved_after=3")
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", pool=tiny_pool, init_params=habit, progress=crash_after_3)
+    train(config, tmp_path / "cut", resume=True, pool=tiny_pool, init_params=habit)  # from the update-2 checkpoint
+    records = metrics(tmp_path / "cut")
+    solved = [r["solve_rate"] * r["episodes"] for r in records]
+    # The habit solves episodes in update 2 and none in update 3: only the count rebuilt from the metrics of
+    # updates 1-2 keeps the resumed run from starting again at update 3.
+    assert solved[1] > 0 and solved[2] == 0
+    assert not any("restarted" in r for r in records)
+
+
 def test_a_saved_config_rebuilds_the_run(tiny_run):
     assert load_config(tiny_run / "config.yaml") == tiny_config()
     assert json.loads((tiny_run / "versions.json").read_text())["format"] == "kinetix-versions/1"
