@@ -225,7 +225,7 @@ def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(
 
     train(tiny_config(*restart), tmp_path / "solves", pool=tiny_pool, init_params=habit)
     records = metrics(tmp_path / "solves")
-    assert sum(r["solve_rate"] * r["episodes"] for r in records[:2]) > 0  # the habit solves pad-to-pad: kept
+    assert sum(r["solve_rate"] * r["episodes"] for r in records[:2]) > 0  # the habit solves rocket-car-jump: kept
     assert not any("restarted" in r for r in records)
 
     stuck = tiny_config(*restart, "levels.files=[levels/s/jet-ball-hop.json]")
