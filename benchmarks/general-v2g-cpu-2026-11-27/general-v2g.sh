@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # general v2 seventh candidate (2026-11-27): candidate B's recipe (general-s v2, then fresh l levels with SFL) with
-# the learning rate annealed to 0 over 8M env steps (about what 60 unloaded minutes give at l), capped at 60
-# minutes; the fourth candidate annealed too but mixed in s-like levels. One seed (0).
+# the learning rate annealed to 0 over 8M env steps (about what candidate B's seed 1 got in 60 minutes, partly under
+# load; unloaded this run got there in 44), capped at 60 minutes; the fourth candidate annealed too but mixed in
+# s-like levels. One seed (0).
 set -euo pipefail
 run=runs/general-v2g
 .venv/bin/kinetix pretrain --config experiments/general.yaml --run-dir $run \

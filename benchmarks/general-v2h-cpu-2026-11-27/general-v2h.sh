@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# general v2 eighth candidate, a probe (2026-11-27): the second candidate's recipe (general-s v2, then fresh l levels
-# with SFL, constant lr) with the entropy weight at 0.001 instead of 0.01: does the entropy still rise at l, and how
-# does update 400 compare? Run for the first ~400 updates only (the session ended); seed 0.
+# general v2, a probe of the entropy finding, not a finished candidate (2026-11-27): the second candidate's recipe
+# (general-s v2, then fresh l levels with SFL, constant lr) with the entropy weight at 0.001 instead of 0.01: does
+# the entropy still rise at l, and how does update 400 compare? Stopped by hand after its update-400 evaluation
+# (update 434; the session was ending); seed 0.
 set -euo pipefail
 run=runs/general-v2h
 .venv/bin/kinetix pretrain --config experiments/general.yaml --run-dir $run \
