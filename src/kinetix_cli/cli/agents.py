@@ -1,5 +1,6 @@
-"""`kinetix agents`: the shipped agents with their scores, and `kinetix agents export`, which makes an agent folder
-(a policy with its config, checksums, training commands and evaluation) from a run."""
+"""`kinetix agents`: the shipped agents with their scores; `kinetix agents export`, which makes an agent folder
+(a policy with its config, checksums, training commands and evaluation) from a run or another agent folder; and
+`kinetix agents blend`, which averages the parameters of several policies of one network into an agent folder."""
 
 from __future__ import annotations
 
@@ -51,16 +52,39 @@ def _model(config) -> str:
 
 @agents_app.command("export")
 def export(
-    run: Path = typer.Argument(..., help="Run directory (latest checkpoint) or RUN/checkpoints/<update>."),
+    run: Path = typer.Argument(
+        ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update> or an agent folder."
+    ),
     out: Path = typer.Option(..., "-o", "--out", help="Agent folder to write (new, or an agent folder to replace)."),
     name: str = typer.Option(..., "--name", help="The agent's name, e.g. general-s."),
     version: int = typer.Option(1, "--version", min=1, max=10**6, help="The agent's version."),
     evaluation: Path = typer.Option(None, "--eval", help="A kinetix eval --json file of this run, put on the card."),
     commands: list[str] = typer.Option([], "--command", help="A command that made the run (repeatable, in order)."),
 ) -> None:
-    """Write a run's policy as an agent folder: config.yaml, params.msgpack and agent.json (kinetix-agent/1)."""
+    """Write a run's policy (or an agent folder's, e.g. a blend's) as an agent folder: config.yaml, params.msgpack
+    and agent.json (kinetix-agent/1)."""
     from kinetix_cli.rl.agents import export_agent
 
     card = export_agent(run, out, name=name, version=version, commands=commands, evaluation=evaluation)
     size = sum((card.folder / f).stat().st_size for f in card.files)
     console.print(f"wrote {out}: agent {card.name} version {card.version} ({size / 1024:,.0f} KiB)")
+
+
+@agents_app.command("blend")
+def blend(
+    sources: list[str] = typer.Argument(
+        ..., help="Policies of one network: runs, RUN/checkpoints/<update>, agent folders or shipped agents."
+    ),
+    out: Path = typer.Option(..., "-o", "--out", help="Agent folder to write (new, or an agent folder to replace)."),
+    name: str = typer.Option(..., "--name", help="The agent's name, e.g. general."),
+    version: int = typer.Option(1, "--version", min=1, max=10**6, help="The agent's version."),
+    weights: list[float] = typer.Option([], "--weight", help="Each policy's weight, in order (default: equal)."),
+    commands: list[str] = typer.Option([], "--command", help="A command that made the sources (repeatable)."),
+) -> None:
+    """Average the parameters of policies fine-tuned from one agent (a model soup) into an agent folder; its card
+    lists them. Evaluate it with kinetix eval, then ship it with kinetix agents export --eval."""
+    from kinetix_cli.rl.agents import blend_agents
+
+    card = blend_agents(sources, out, name=name, version=version, commands=commands, weights=weights)
+    parts = ", ".join(f"{b['source']} x{b['weight']:.3g}" for b in card.trained["blend"])
+    console.print(f"wrote {out}: agent {card.name} version {card.version}, the average of {parts}")

@@ -9,6 +9,10 @@ An agent folder (`kinetix agents export`) is a policy alone, small enough to shi
   trained (run, updates, environment steps, the commands that made it, machine and versions) and its evaluation
   (`kinetix eval --json` results per suite).
 
+`kinetix agents blend` makes an agent folder from several policies of one network: the weighted average of their
+parameters (a "model soup", Wortsman et al. 2022: policies fine-tuned from one agent average into one that keeps
+much of what each learned). Its card lists the ingredients; `kinetix agents export` ships it like a run.
+
 The shipped agents live in `kinetix_cli/rl/shipped/<name>/` (the newest version) and `shipped/<name>@<version>/`
 (older ones kept loadable) and are installed with the package. `general-s` names the newest version, `general-s@1`
 version 1. A name resolves to a shipped agent only when no file or folder of that name exists, so a local run
@@ -20,10 +24,13 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
+import math
 import os
 from pathlib import Path
 
 import flax.linen as nn
+import jax
+import numpy as np
 from flax import serialization
 
 from kinetix_cli.config import CONFIG_FILENAME, ExperimentConfig, format_config, load_config
@@ -37,6 +44,7 @@ from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
 from kinetix_cli.rl.evaluate import read_evaluation
 from kinetix_cli.rl.networks import make_network, params_mismatch, sampling_policy
+from kinetix_cli.rl.trees import tree_mismatch
 
 SHIPPED = Path(__file__).with_name("shipped")
 """The shipped agents' folders, one per name."""
@@ -214,32 +222,131 @@ def export_agent(
     commands: list[str],
     evaluation: str | os.PathLike | None = None,
 ) -> AgentCard:
-    """Write the policy of `run` (a run directory or checkpoint folder) as the agent folder `out`, whole or not at
-    all (written beside it, then renamed into place; an existing agent folder is replaced, anything else there
-    is refused). `evaluation`: a `kinetix eval --json` file of this policy, whose per-suite results go on the
-    card."""
-    if not name or not set(name) <= NAME_CHARS:
-        raise UserError(f"--name {name!r}: use lower-case letters, digits, '-', '_' and '.'")
-    out = check_output_dir(out, "-o")
-    if out.exists() and any(out.iterdir()) and not (out / AGENT_FILE).is_file():
-        raise UserError(f"-o {out}: not empty and not an agent folder; choose a new folder")
-    config, params, where = checkpoints.read_policy(Path(run))
-    update = _checked(str(run), config, params, int(where.name), where, where.parent.parent / CONFIG_FILENAME).update
-    scores = _evaluation(evaluation, Path(run)) if evaluation is not None else {}
-    data = {CONFIG_FILENAME: format_config(config).encode(), PARAMS_FILE: serialization.msgpack_serialize(params)}
+    """Write the policy of `run` (a run directory, a checkpoint folder or an agent folder such as a blend) as the
+    agent folder `out`, whole or not at all (written beside it, then renamed into place; an existing agent folder
+    is replaced, anything else there is refused). `evaluation`: a `kinetix eval --json` file of this policy, whose
+    per-suite results go on the card. An agent folder's steps and ingredients carry over to the new card."""
+    _check_name(name)
+    out = _agent_out(out)
+    run = Path(run)
+    if (run / AGENT_FILE).is_file():
+        config, params, update = _read_agent(run)
+        made = {k: v for k, v in read_card(run).trained.items() if k in ("steps", "blend")}
+        where, config_file = run / PARAMS_FILE, run / CONFIG_FILENAME
+    else:
+        config, params, where = checkpoints.read_policy(run)
+        update, made = int(where.name), {"steps": int(where.name) * config.ppo.batch_size}
+        config_file = where.parent.parent / CONFIG_FILENAME
+    _checked(str(run), config, params, update, where, config_file)
+    scores = _evaluation(evaluation, run) if evaluation is not None else {}
+    trained = {"run": str(run), "update": update, **made, "commands": list(commands), **environment_info()}
+    return _write_agent(out, config, params, name=name, version=version, trained=trained, evaluation=scores)
+
+
+def blend_agents(
+    sources: list[str],
+    out: str | os.PathLike,
+    *,
+    name: str,
+    version: int,
+    commands: list[str],
+    weights: list[float] | None = None,
+) -> AgentCard:
+    """Write the weighted average of the parameters of `sources` (runs, checkpoints, agent folders or shipped
+    agents) as the agent folder `out`; `weights` (default equal) are normalised to sum to 1. The sources must be
+    one network playing one environment (their `model` and `env` settings equal but for the size) and are best
+    fine-tuned from one agent: the average of unrelated networks plays like neither. The blend keeps the last
+    source's config; its card lists each source with its weight, update and steps, and its steps are theirs
+    summed (a run started from another agent counts only its own steps, so list that agent too)."""
+    _check_name(name)
+    out = _agent_out(out)
+    if len(sources) < 2:
+        raise UserError(f"blend: give at least two policies to average, got {len(sources)}")
+    weights = [1.0] * len(sources) if not weights else [float(w) for w in weights]
+    if len(weights) != len(sources):
+        raise UserError(f"--weight: {len(weights)} weights for {len(sources)} policies; give one per policy or none")
+    if not all(math.isfinite(w) and w > 0 for w in weights):
+        raise UserError(f"--weight: {weights}: every weight must be a positive number")
+    policies = [load_policy(source) for source in sources]
+    first = policies[0]
+    for policy in policies[1:]:
+        why = _difference(first.config, policy.config) or tree_mismatch(first.params, policy.params)
+        if why is not None:
+            raise UserError(f"{policy.source}: not the network of {first.source} ({why}); a blend averages one network")
+    total = sum(weights)
+    shares = [w / total for w in weights]
+
+    def average(*leaves):
+        return np.asarray(sum(s * np.asarray(x, np.float64) for s, x in zip(shares, leaves, strict=True)), np.float32)
+
+    params = jax.tree.map(average, *[p.params for p in policies])
+    blend = [
+        {"source": _label(p), "weight": share, "update": p.update, "steps": _steps(p)}
+        for p, share in zip(policies, shares, strict=True)
+    ]
     trained = {
-        "run": str(run),
-        "update": update,
-        "steps": update * config.ppo.batch_size,
+        "run": "blend",
+        "update": policies[-1].update,
+        "steps": sum(b["steps"] for b in blend),
+        "blend": blend,
         "commands": list(commands),
         **environment_info(),
     }
+    return _write_agent(out, policies[-1].config, params, name=name, version=version, trained=trained, evaluation={})
+
+
+def _difference(a: ExperimentConfig, b: ExperimentConfig) -> str | None:
+    """The first model or environment setting (size aside) on which two policies' configs differ, or None."""
+    for section in ("model", "env"):
+        for field in dataclasses.fields(getattr(a, section)):
+            x, y = getattr(getattr(a, section), field.name), getattr(getattr(b, section), field.name)
+            if field.name != "size" and x != y:
+                return f"{section}.{field.name}: {y!r}, not {x!r}"
+    return None
+
+
+def _label(policy: LoadedPolicy) -> str:
+    """How a blend's card names a source: a shipped agent as `name@version` (a bare name moves on with new
+    versions), anything else as given."""
+    folder = resolve(policy.source)
+    if folder.parent == SHIPPED and (folder / AGENT_FILE).is_file():
+        card = read_card(folder)
+        return f"{card.name}@{card.version}"
+    return policy.source
+
+
+def _steps(policy: LoadedPolicy) -> int:
+    """Env steps a policy was trained for: its card's for an agent folder, else its run's updates x batch."""
+    folder = resolve(policy.source)
+    if (folder / AGENT_FILE).is_file():
+        return int(read_card(folder).trained.get("steps", 0))
+    return policy.update * policy.config.ppo.batch_size
+
+
+def _check_name(name: str) -> None:
+    if not name or not set(name) <= NAME_CHARS:
+        raise UserError(f"--name {name!r}: use lower-case letters, digits, '-', '_' and '.'")
+
+
+def _agent_out(out: str | os.PathLike) -> Path:
+    """`out` checked as a place for an agent folder: new, empty, or an agent folder to replace."""
+    out = check_output_dir(out, "-o")
+    if out.exists() and any(out.iterdir()) and not (out / AGENT_FILE).is_file():
+        raise UserError(f"-o {out}: not empty and not an agent folder; choose a new folder")
+    return out
+
+
+def _write_agent(
+    out: Path, config: ExperimentConfig, params, *, name: str, version: int, trained: dict, evaluation: dict
+) -> AgentCard:
+    """Write an agent folder whole or not at all: config, parameters and the card with both files' sha256."""
+    data = {CONFIG_FILENAME: format_config(config).encode(), PARAMS_FILE: serialization.msgpack_serialize(params)}
     card = {
         "name": name,
         "version": version,
         "files": {file: hashlib.sha256(b).hexdigest() for file, b in data.items()},
         "trained": trained,
-        "evaluation": scores,
+        "evaluation": evaluation,
     }
     with atomic_folder(out, "-o") as staging:
         for file, b in data.items():

@@ -149,3 +149,43 @@ def test_a_run_named_by_a_relative_path_loads(tiny_run, monkeypatch):
     monkeypatch.chdir(tiny_run.parent)
     again = agents.load_policy(tiny_run.name).params
     assert all(np.array_equal(a, b) for a, b in zip(jax.tree.leaves(params), jax.tree.leaves(again), strict=True))
+
+
+def test_a_blend_is_the_weighted_average_and_ships_like_a_run(capsys, tiny_run, exported, tmp_path):
+    """`agents blend`: parameters averaged with the given weights; the card lists the sources; the blend plays
+    and is shipped by `agents export` with its evaluation, keeping its sources and steps."""
+    early = tiny_run / "checkpoints" / "2"
+    blend = tmp_path / "blend"
+    args = ["agents", "blend", early, exported, "-o", blend, "--name", "mix", "--weight", "3", "--weight", "1"]
+    made = kinetix(capsys, *args)
+    assert made.code == 0 and "the average of" in made.out and "x0.75" in made.out
+    a, b = agents.load_policy(early).params, agents.load_policy(exported).params
+    blended = agents.load_policy(blend)
+    jax.tree.map(lambda x, y, z: np.testing.assert_allclose(z, 0.75 * x + 0.25 * y, rtol=1e-6), a, b, blended.params)
+    assert not np.allclose(jax.tree.leaves(a)[0], jax.tree.leaves(blended.params)[0])  # the two really differ
+    card = agents.read_card(blend)
+    sources = [(s["source"], s["weight"], s["update"], s["steps"]) for s in card.trained["blend"]]
+    assert sources == [(str(early), 0.75, 2, 2 * 64), (str(exported), 0.25, 6, 6 * 64)]
+    assert card.trained["steps"] == 8 * 64 and blended.config == load_config(exported / "config.yaml")
+
+    evaluation = tmp_path / "eval.json"
+    assert kinetix(capsys, "eval", blend, "--levels", EVAL_LEVEL, "--attempts", "2", "--json", evaluation).code == 0
+    shipped = tmp_path / "shipped"
+    assert kinetix(capsys, "agents", "export", blend, "-o", shipped, "--name", "mix", "--eval", evaluation).code == 0
+    card = agents.read_card(shipped)
+    assert card.trained["blend"][1]["source"] == str(exported) and card.trained["steps"] == 8 * 64
+    assert card.evaluation["attempts"] == 2
+    jax.tree.map(np.testing.assert_array_equal, agents.load_policy(shipped).params, blended.params)
+
+
+def test_a_bad_blend_is_one_line(capsys, tiny_run, tmp_path):
+    out = ["-o", tmp_path / "b", "--name", "b"]
+    one = kinetix(capsys, "agents", "blend", tiny_run, *out)
+    assert one.code == 2 and "blend: give at least two policies to average, got 1" in one.error_line
+    counted = kinetix(capsys, "agents", "blend", tiny_run, tiny_run, *out, "--weight", "1")
+    assert counted.code == 2 and "--weight: 1 weights for 2 policies" in counted.error_line
+    negative = kinetix(capsys, "agents", "blend", tiny_run, tiny_run, *out, "--weight", "1", "--weight", "-1")
+    assert negative.code == 2 and "every weight must be a positive number" in negative.error_line
+    other = kinetix(capsys, "agents", "blend", tiny_run, "general-s", *out)
+    assert other.code == 2 and "general-s: not the network of" in other.error_line and "model.name" in other.error_line
+    assert not (tmp_path / "b").exists()
