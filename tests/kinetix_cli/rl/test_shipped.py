@@ -28,6 +28,18 @@ def test_a_general_agent_per_size_is_shipped_with_its_commands_and_evaluation(si
     assert set(files) == {"agent.json", CONFIG_FILENAME, "params.msgpack"} and sum(files.values()) < 5_000_000
 
 
+def test_the_general_agent_is_shipped_with_its_score_over_the_74_paper_levels():
+    """`general`: one agent for every size, scored as the paper scores its general agents (all 74 levels)."""
+    policy = agents.load_policy("general")
+    card = agents.read_card(agents.SHIPPED / "general")
+    assert policy.config.env.observation in SIZE_INDEPENDENT_OBSERVATIONS
+    assert policy.update == card.trained["update"] > 0 and policy.config.run.init_from == "general-s"
+    assert any(c.startswith("kinetix pretrain") for c in card.trained["commands"])
+    suites = card.evaluation["suites"]
+    assert card.evaluation["attempts"] == 50 and suites["all"]["levels"] == 74
+    assert [suites[f".cache/reference-levels/{size}"]["levels"] for size in "sml"] == [10, 24, 40]
+
+
 def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
     result = kinetix(capsys, "agents")
     assert result.code == 0 and "levels/s" in result.out
