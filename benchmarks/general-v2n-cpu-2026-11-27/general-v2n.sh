@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# general v2 soup ingredient (2026-11-27): general-s v2 trained on for 400 updates (3.3M env steps) at size m with
+# general v2 candidate (2026-11-27): general-s v2 trained on for 400 updates (3.3M env steps) at size m with
 # the v2 recipe (SFL, constant lr). 400: where training at m peaked on the paper's m levels in two earlier runs
 # (general-m v2 first candidate: 29.2% at update 400; general-v2m seed 0: s 39 / m 29.2 / l 9.8 at 400, falling
 # after). Usage: general-v2n.sh SEED
