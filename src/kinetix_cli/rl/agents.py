@@ -280,10 +280,7 @@ def blend_agents(
         return np.asarray(sum(s * np.asarray(x, np.float64) for s, x in zip(shares, leaves, strict=True)), np.float32)
 
     params = jax.tree.map(average, *[p.params for p in policies])
-    blend = [
-        {"source": _label(p), "weight": share, "update": p.update, "steps": _steps(p)}
-        for p, share in zip(policies, shares, strict=True)
-    ]
+    blend = [_source(p) | {"weight": share} for p, share in zip(policies, shares, strict=True)]
     trained = {
         "run": "blend",
         "update": policies[-1].update,
@@ -305,22 +302,17 @@ def _difference(a: ExperimentConfig, b: ExperimentConfig) -> str | None:
     return None
 
 
-def _label(policy: LoadedPolicy) -> str:
-    """How a blend's card names a source: a shipped agent as `name@version` (a bare name moves on with new
-    versions), anything else as given."""
+def _source(policy: LoadedPolicy) -> dict:
+    """A blend source as its card lists it: `source` (a shipped agent as `name@version`, since a bare name moves
+    on with new versions; anything else as given), `update`, and `steps` (an agent folder's card's, else the
+    run's updates x batch)."""
     folder = resolve(policy.source)
-    if folder.parent == SHIPPED and (folder / AGENT_FILE).is_file():
-        card = read_card(folder)
-        return f"{card.name}@{card.version}"
-    return policy.source
-
-
-def _steps(policy: LoadedPolicy) -> int:
-    """Env steps a policy was trained for: its card's for an agent folder, else its run's updates x batch."""
-    folder = resolve(policy.source)
-    if (folder / AGENT_FILE).is_file():
-        return int(read_card(folder).trained.get("steps", 0))
-    return policy.update * policy.config.ppo.batch_size
+    if not (folder / AGENT_FILE).is_file():
+        steps = policy.update * policy.config.ppo.batch_size
+        return {"source": policy.source, "update": policy.update, "steps": steps}
+    card = read_card(folder)
+    label = f"{card.name}@{card.version}" if folder.parent == SHIPPED else policy.source
+    return {"source": label, "update": policy.update, "steps": int(card.trained.get("steps", 0))}
 
 
 def _check_name(name: str) -> None:

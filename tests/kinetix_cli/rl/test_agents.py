@@ -189,3 +189,17 @@ def test_a_bad_blend_is_one_line(capsys, tiny_run, tmp_path):
     other = kinetix(capsys, "agents", "blend", tiny_run, "general-s", *out)
     assert other.code == 2 and "general-s: not the network of" in other.error_line and "model.name" in other.error_line
     assert not (tmp_path / "b").exists()
+
+
+def test_a_blend_names_a_shipped_source_with_its_version(capsys, tmp_path):
+    """A bare shipped name moves on with new versions, so the card records `name@version`; a policy blended
+    with itself is itself."""
+    version = agents.read_card(agents.SHIPPED / "general-s").version
+    blend = tmp_path / "self"
+    assert kinetix(capsys, "agents", "blend", "general-s", f"general-s@{version}", "-o", blend, "--name", "s").code == 0
+    card = agents.read_card(blend)
+    assert [s["source"] for s in card.trained["blend"]] == [f"general-s@{version}"] * 2
+    assert [s["weight"] for s in card.trained["blend"]] == [0.5, 0.5]
+    shipped = agents.load_policy("general-s")
+    assert card.trained["steps"] == 2 * agents.read_card(agents.SHIPPED / "general-s").trained["steps"]
+    jax.tree.map(np.testing.assert_array_equal, agents.load_policy(blend).params, shipped.params)
