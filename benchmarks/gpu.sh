@@ -7,7 +7,7 @@
 #
 #   benchmarks/gpu.sh OUT_DIR
 #   TINY=1       the same steps at CPU sizes (seconds, not minutes): the smoke test of `make test-all`
-#   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 60)
+#   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 30)
 #   KINETIX      the command (default .venv/bin/kinetix); PYTHON likewise
 #   EVAL_LEVELS  the SFL run's evaluation suite (default: the paper's s levels if fetched, else levels/s)
 set -euo pipefail
@@ -35,10 +35,9 @@ else
   engine=(--envs 1024,2048,4096,8192 --steps 20 --min-time 1)
   train=(--envs 2048 --steps 64 --epochs 8 --minibatches 32 --width 128 --layers 5 --min-time 5)
   sfl=(--set run.eval_attempts=50)
-  seconds=${SFL_SECONDS:-60}
+  seconds=${SFL_SECONDS:-30}
 fi
 
-"$python" -c "import jax; print('devices:', jax.devices())"
 "$kinetix" bench engine --size m "${engine[@]}" --against jax2d --json "$out/engine-m.json"
 "$kinetix" bench train --size m --models pi-mlp,rel-mlp,transformer "${train[@]}" --json "$out/train-m.json"
 
