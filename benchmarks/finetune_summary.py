@@ -31,4 +31,5 @@ for level in sorted(p for p in out.iterdir() if p.is_dir()):
 print()
 for arm, rows in sorted(totals.items()):
     finals, areas = zip(*rows, strict=True)
-    print(f"- {arm}: {len(rows)} levels, mean final {statistics.mean(finals):.1%}, mean of the curves {statistics.mean(areas):.1%}")
+    final, area = statistics.mean(finals), statistics.mean(areas)
+    print(f"- {arm}: {len(rows)} levels, mean final {final:.1%}, mean of the curves {area:.1%}")

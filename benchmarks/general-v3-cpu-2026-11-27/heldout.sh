@@ -1,6 +1,8 @@
 # The 120 held-out generated levels (40 per size, generate --seed 777, trivial ones dropped) as level files in
 # runs/heldout/{s,m,l}: the selection set for general v2 candidates (not the paper levels). ~5.5 min.
 set -e
+# (Run here with a Python loop over kinetix_cli.levels.export; the same files, named <set>-00000.json, come from
+#  `kinetix levels export runs/heldout-set-S --first 40 -o runs/heldout/S`, added after these runs.)
 cd "$(dirname "$0")/../.."
 for size in s m l; do
   .venv/bin/kinetix generate --size $size --count 40 --seed 777 --out runs/heldout-set-$size > runs/heldout-gen-$size.log 2>&1

@@ -348,20 +348,50 @@ def levels_sheet(
 @levels_app.command("export")
 def levels_export(
     path: Path = typer.Argument(..., help="Level-set folder."),
-    index: int = typer.Option(..., help="The level to export."),
-    out: Path = typer.Option(..., "-o", "--out", help="Level file (JSON) to write."),
+    index: int | None = typer.Option(None, help="The level to export, to the file -o."),
+    first: int | None = typer.Option(
+        None,
+        min=1,
+        help="Export levels 0 .. FIRST-1 into the folder -o, as <set>-00000.json, ... (e.g. a held-out suite).",
+    ),
+    out: Path = typer.Option(..., "-o", "--out", help="Level file (JSON) to write (--index) or folder (--first)."),
 ) -> None:
-    """Write one level of a set as a level file (kinetix-level/1) that validate, render and rollout read."""
-    check_output_file(out, "-o")
-    from engine import SIZES
-    from kinetix_cli.levels.export import export_level
+    """Write one level of a set (--index) or its first levels (--first) as level files (kinetix-level/1) that
+    validate, render, rollout and eval read."""
+    if (index is None) == (first is None):
+        raise UserError(
+            "levels export: give exactly one of --index N (one level, -o a file) and --first N (-o a folder)"
+        )
+    if first is None:
+        check_output_file(out, "-o")
+    else:
+        check_output_dir(out, "-o")
     from kinetix_cli.levels.files import save_level
-    from kinetix_cli.levels.levelset import level_at, load_levelset
+    from kinetix_cli.levels.levelset import load_levelset
 
     levelset = load_levelset(path)
+    if first is None:
+        save_level(out, _level_file(levelset, path, index))
+        console.print(f"wrote {out}")
+        return
+    count = levelset.manifest["count"]
+    if first > count:
+        raise UserError(f"--first: {first} levels asked for; {path} has {count}")
+    out.mkdir(parents=True, exist_ok=True)
+    for i in range(first):
+        save_level(out / f"{path.name}-{i:05d}.json", _level_file(levelset, path, i))
+    console.print(f"wrote {first} level files to {out}")
+
+
+def _level_file(levelset, path: Path, index: int) -> dict:
+    """Level `index` of the loaded set at `path` as level-file data."""
+    from engine import SIZES
+    from kinetix_cli.levels.export import export_level
+    from kinetix_cli.levels.levelset import level_at
+
     size, seed = levelset.manifest["size"], levelset.manifest["seed"]
     try:
-        data = export_level(
+        return export_level(
             level_at(levelset, index),
             SIZES[size],
             name=f"{path.name} {index}",
@@ -369,5 +399,3 @@ def levels_export(
         )
     except ValueError as exc:
         raise UserError(f"{path}: level {index} cannot be written as a level file: {exc}") from None
-    save_level(out, data)
-    console.print(f"wrote {out}")

@@ -9,6 +9,7 @@ import json
 import pytest
 from typer.testing import CliRunner
 
+from helpers.cli import kinetix
 from helpers.processes import FORCE_2, exact_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
 from kinetix_cli.levels.files import load_level
@@ -34,7 +35,7 @@ def generated(tmp_path_factory):
     return out
 
 
-def test_generate_info_show_export(tmp_path, generated):
+def test_generate_info_show_export(tmp_path, generated, capsys):
     out, args = generated, GENERATE
     files = files_of(out)
     assert sorted(files) == ["manifest.json", "shard-00000.npz", "shard-00001.npz", "shard-00002.npz"]
@@ -54,6 +55,18 @@ def test_generate_info_show_export(tmp_path, generated):
     assert runner.invoke(app, ["levels", "export", str(out), "--index", "39", "-o", str(level_json)]).exit_code == 0
     spec = load_level(level_json)
     assert spec.size == "s" and spec.description
+    folder = tmp_path / "first"  # the first levels as a folder of level files, each as --index writes it
+    assert runner.invoke(app, ["levels", "export", str(out), "--first", "40", "-o", str(folder)]).exit_code == 0
+    written = sorted(folder.iterdir())
+    assert [f.name for f in written] == [f"{out.name}-{i:05d}.json" for i in range(40)]
+    assert written[39].read_bytes() == level_json.read_bytes()
+    for wrong, says in (
+        (["--first", "41"], "has 40"),
+        (["--index", "1", "--first", "2"], "exactly one"),
+        ([], "exactly one"),
+    ):
+        line = kinetix(capsys, "levels", "export", out, *wrong, "-o", tmp_path / "wrong").error_line
+        assert says in line and not (tmp_path / "wrong").exists()
 
 
 @pytest.fixture(scope="module")
