@@ -8,3 +8,4 @@ k=.venv/bin/kinetix
 held=(--levels runs/heldout/s --levels runs/heldout/m --levels runs/heldout/l)
 for s in 1 3; do $k eval runs/general-v2n-seed$s "${held[@]}" --attempts 20 --seed 2000 --json runs/general-v2n-seed$s-heldout.json; done
 for s in 1 2 3; do bash benchmarks/general-v3-cpu-2026-11-27/general-v3l.sh $s; done
+for f in general-v3b general-v3c general-v3c-confirm; do bash benchmarks/general-v3-cpu-2026-11-27/$f.sh; done

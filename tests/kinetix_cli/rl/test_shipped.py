@@ -33,8 +33,12 @@ def test_the_general_agent_is_shipped_with_its_score_over_the_74_paper_levels():
     policy = agents.load_policy("general")
     card = agents.read_card(agents.SHIPPED / "general")
     assert policy.config.env.observation in SIZE_INDEPENDENT_OBSERVATIONS
-    assert policy.update == card.trained["update"] > 0 and policy.config.run.init_from == "general-s"
+    assert policy.update == card.trained["update"] > 0 and policy.config.run.init_from
     assert any(c.startswith("kinetix pretrain") for c in card.trained["commands"])
+    # v2: a blend of general-s v2, general v1 and runs trained on from v1; v1 stays loadable by version
+    assert card.version == 2 and {"general-s@2", "general@1"} <= {b["source"] for b in card.trained["blend"]}
+    assert any(c.startswith("kinetix agents blend") for c in card.trained["commands"])
+    assert agents.load_policy("general@1").config.run.init_from == "general-s"
     suites = card.evaluation["suites"]
     assert card.evaluation["attempts"] == 50 and suites["all"]["levels"] == 74
     assert [suites[f".cache/reference-levels/{size}"]["levels"] for size in "sml"] == [10, 24, 40]
