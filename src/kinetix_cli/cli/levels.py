@@ -366,12 +366,13 @@ def levels_export(
         check_output_file(out, "-o")
     else:
         check_output_dir(out, "-o")
+    from kinetix_cli.levels.export import export_set_level
     from kinetix_cli.levels.files import save_level
     from kinetix_cli.levels.levelset import load_levelset
 
     levelset = load_levelset(path)
     if first is None:
-        save_level(out, _level_file(levelset, path, index))
+        save_level(out, export_set_level(levelset, path, index))
         console.print(f"wrote {out}")
         return
     count = levelset.manifest["count"]
@@ -379,23 +380,5 @@ def levels_export(
         raise UserError(f"--first: {first} levels asked for; {path} has {count}")
     out.mkdir(parents=True, exist_ok=True)
     for i in range(first):
-        save_level(out / f"{path.name}-{i:05d}.json", _level_file(levelset, path, i))
+        save_level(out / f"{path.name}-{i:05d}.json", export_set_level(levelset, path, i))
     console.print(f"wrote {first} level files to {out}")
-
-
-def _level_file(levelset, path: Path, index: int) -> dict:
-    """Level `index` of the loaded set at `path` as level-file data."""
-    from engine import SIZES
-    from kinetix_cli.levels.export import export_level
-    from kinetix_cli.levels.levelset import level_at
-
-    size, seed = levelset.manifest["size"], levelset.manifest["seed"]
-    try:
-        return export_level(
-            level_at(levelset, index),
-            SIZES[size],
-            name=f"{path.name} {index}",
-            description=f"Generated level {index} of {path} (seed {seed}): make green touch blue",
-        )
-    except ValueError as exc:
-        raise UserError(f"{path}: level {index} cannot be written as a level file: {exc}") from None

@@ -24,13 +24,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
 from engine import NUM_ARENA_POLYGONS, SIZES, Scene, Static, rotate
 from kinetix_cli.constants import LEVEL_FORMAT, NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROLE_NAMES
 from kinetix_cli.env.level import Level, default_engine_params
+from kinetix_cli.errors import UserError
 from kinetix_cli.levels.format import ARENA_KEYS, DEFAULT_GRAVITY
+from kinetix_cli.levels.levelset import LevelSet, level_at
 
 _MAX_DECIMALS = 12
 _NEAR = 1e-7  # [m] or [rad]: a derived number that no rounding reproduces exactly is written this close
@@ -98,6 +101,21 @@ def export_level(level: Level, static: Static, *, name: str, description: str) -
     if params:
         data["params"] = params
     return data
+
+
+def export_set_level(levelset: LevelSet, path: Path, index: int) -> dict:
+    """Level `index` of the set loaded from `path` as level-file data, named after the set and its index; a level
+    the format cannot hold is a `UserError` naming the set and the index."""
+    size, seed = levelset.manifest["size"], levelset.manifest["seed"]
+    try:
+        return export_level(
+            level_at(levelset, index),
+            SIZES[size],
+            name=f"{path.name} {index}",
+            description=f"Generated level {index} of {path} (seed {seed}): make green touch blue",
+        )
+    except ValueError as exc:
+        raise UserError(f"{path}: level {index} cannot be written as a level file: {exc}") from None
 
 
 def _params(level: Level) -> dict[str, float]:
