@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The GPU benchmark, one script of at most ~8 minutes on one GPU: the engine against Jax2D at size m (1,024 to 8,192
-# scenes), PPO training env steps/s with pi-mlp, rel-mlp (the v2 agents' model) and the entity transformer at 2,048
-# envs (size m, the reference's 64 steps x 8 epochs x 32 minibatches), and a few minutes of SFL with the transformer
-# (experiments/pretrain-s.yaml, the reference recipe, then evaluated zero-shot with 50 attempts per level).
+# scenes), PPO training env steps/s with pi-mlp and the entity transformer at 2,048 envs (size m, the reference's
+# 64 steps x 8 epochs x 32 minibatches), and a few minutes of SFL with the transformer (experiments/pretrain-s.yaml,
+# the reference recipe, then evaluated zero-shot with 50 attempts per level).
 # gpu_summary.py prints the tables for BENCHMARKS.md.
 #
 #   benchmarks/gpu.sh OUT_DIR
 #   TINY=1       the same steps at CPU sizes (seconds, not minutes): the smoke test of `make test-all`
+#   MODELS       the training table's models (default pi-mlp,transformer; add rel-mlp, the v2 agents' model: ~45 s)
 #   SFL_SECONDS  training seconds the SFL run is sized for, from the measured transformer throughput (default 30)
 #   KINETIX      the command (default .venv/bin/kinetix); PYTHON likewise
 #   EVAL_LEVELS  the SFL run's evaluation suite (default: the paper's s levels if fetched, else levels/s)
@@ -39,7 +40,7 @@ else
 fi
 
 "$kinetix" bench engine --size m "${engine[@]}" --against jax2d --json "$out/engine-m.json"
-"$kinetix" bench train --size m --models pi-mlp,rel-mlp,transformer "${train[@]}" --json "$out/train-m.json"
+"$kinetix" bench train --size m --models "${MODELS:-pi-mlp,transformer}" "${train[@]}" --json "$out/train-m.json"
 
 # The SFL run: as many updates as the transformer's measured rate fits into $seconds (SFL's scoring comes on top)
 steps=$("$python" "$here/gpu_summary.py" --sfl-steps "$out/train-m.json" "$seconds" "${sfl[@]}")
