@@ -378,7 +378,8 @@ def levels_export(
     count = levelset.manifest["count"]
     if first > count:
         raise UserError(f"--first: {first} levels asked for; {path} has {count}")
+    exported = [export_set_level(levelset, path, i) for i in range(first)]  # a level it cannot hold: no file written
     out.mkdir(parents=True, exist_ok=True)
-    for i in range(first):
-        save_level(out / f"{path.name}-{i:05d}.json", export_set_level(levelset, path, i))
+    for i, data in enumerate(exported):
+        save_level(out / f"{path.name}-{i:05d}.json", data)
     console.print(f"wrote {first} level files to {out}")

@@ -12,6 +12,8 @@ from typer.testing import CliRunner
 from helpers.cli import kinetix
 from helpers.processes import FORCE_2, exact_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
+from kinetix_cli.levels import export
+from kinetix_cli.levels.export import export_level
 from kinetix_cli.levels.files import load_level
 
 pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_filters: one worker compiles the chunk program
@@ -35,7 +37,7 @@ def generated(tmp_path_factory):
     return out
 
 
-def test_generate_info_show_export(tmp_path, generated, capsys):
+def test_generate_info_show_export(tmp_path, generated, capsys, monkeypatch):
     out, args = generated, GENERATE
     files = files_of(out)
     assert sorted(files) == ["manifest.json", "shard-00000.npz", "shard-00001.npz", "shard-00002.npz"]
@@ -67,6 +69,15 @@ def test_generate_info_show_export(tmp_path, generated, capsys):
     ):
         line = kinetix(capsys, "levels", "export", out, *wrong, "-o", tmp_path / "wrong").error_line
         assert says in line and not (tmp_path / "wrong").exists()
+
+    def cannot_hold_level_3(level, static, *, name, description):
+        if name.endswith(" 3"):
+            raise ValueError("a fixed joint holding another angle")
+        return export_level(level, static, name=name, description=description)
+
+    monkeypatch.setattr(export, "export_level", cannot_hold_level_3)
+    line = kinetix(capsys, "levels", "export", out, "--first", "5", "-o", tmp_path / "partial").error_line
+    assert "level 3 cannot be written" in line and not (tmp_path / "partial").exists()  # not levels 0-2 either
 
 
 @pytest.fixture(scope="module")
