@@ -6,28 +6,22 @@ from __future__ import annotations
 import datetime
 import os
 import platform
-import tomllib
 from importlib import metadata
-from pathlib import Path
 
 import jax
+
+from kinetix_cli import __version__
 
 LIBRARIES = ("jax", "jaxlib", "flax", "optax", "orbax-checkpoint", "numpy", "gymnax", "gymnasium", "jax2d")
 
 
 def tool_version() -> str:
     """The installed `kinetix` version; run from a checkout's `src/` without installing (as on a lent GPU), the
-    checkout's pyproject.toml version marked "(source)"; else "unknown"."""
+    package's own `__version__` marked "(source)"."""
     try:
         return metadata.version("kinetix")
     except metadata.PackageNotFoundError:
-        pass
-    try:
-        project = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())["project"]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError):
-        return "unknown"
-    version = project.get("version") if project.get("name") == "kinetix" else None
-    return f"{version} (source)" if isinstance(version, str) else "unknown"
+        return f"{__version__} (source)"
 
 
 def environment_info() -> dict:
