@@ -83,7 +83,12 @@ def shipped_folders() -> list[Path]:
     if not SHIPPED.is_dir():
         return []
     folders = [p for p in SHIPPED.iterdir() if (p / AGENT_FILE).is_file()]
-    return sorted(folders, key=lambda p: (p.name.partition("@")[0], "@" in p.name, p.name))
+
+    def order(folder: Path) -> tuple[str, bool, int]:
+        base, _, version = folder.name.partition("@")
+        return base, bool(version), -int(version) if version.isdigit() else 0
+
+    return sorted(folders, key=order)
 
 
 def shipped_names() -> list[str]:

@@ -35,13 +35,20 @@ def test_the_general_agent_is_shipped_with_its_score_over_the_74_paper_levels():
     assert policy.config.env.observation in SIZE_INDEPENDENT_OBSERVATIONS
     assert policy.update == card.trained["update"] > 0 and policy.config.run.init_from
     assert any(c.startswith("kinetix pretrain") for c in card.trained["commands"])
-    # v2: a blend of general-s v2, general v1 and runs trained on from v1; v1 stays loadable by version
-    assert card.version == 2 and {"general-s@2", "general@1"} <= {b["source"] for b in card.trained["blend"]}
+    # v3: a blend of general-s v2, general v1 and four runs trained on from v1; v1 and v2 stay loadable by version
+    assert card.version == 3 and {"general-s@2", "general@1"} <= {b["source"] for b in card.trained["blend"]}
+    assert len(card.trained["blend"]) == 6
     assert any(c.startswith("kinetix agents blend") for c in card.trained["commands"])
     assert agents.load_policy("general@1").config.run.init_from == "general-s"
+    assert agents.read_card(agents.shipped_agent("general@2")).version == 2
     suites = card.evaluation["suites"]
     assert card.evaluation["attempts"] == 50 and suites["all"]["levels"] == 74
     assert [suites[f".cache/reference-levels/{size}"]["levels"] for size in "sml"] == [10, 24, 40]
+
+
+def test_shipped_versions_are_listed_newest_first():
+    general = [card.version for card, _ in agents.shipped_agents() if card.name == "general"]
+    assert general == sorted(general, reverse=True) and len(general) >= 3
 
 
 def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
