@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# general v3 (~114 min of training) trained on for 128 updates (1,048,576 env steps, ~3.3 min) at size m,
+# general v3 (~114 min of training) trained on for 128 updates (1,048,576 env steps, 2.6 min each as run) at size m,
 # training seeds 1-3; each alone and blended with v3 (1:1, 3:1), scored on the 120 held-out levels.
 set -euo pipefail
 k=.venv/bin/kinetix

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A third, hand-made set that chose nothing: the project's own levels (levels/s, m, l; 60 levels), v3 and the seed-22 run.
+# A third, hand-made set that chose nothing: the project's own levels (levels/s, m, l; 60 levels): v3 and the seed-21 and seed-22 runs.
 set -euo pipefail
 k=.venv/bin/kinetix
 own=(--levels levels/s --levels levels/m --levels levels/l)

@@ -1,7 +1,9 @@
 """Probe: a shipped agent (default `general`, v3 when run) with its actor logits divided by T, on the held-out
 levels or the paper's 74. Run: `python temper-v3.py heldout 20 2000 1.0,0.7,0.5,1.2,1.5 > temper-v3.jsonl`
 (levels, attempts, evaluation seed, temperatures); reads runs/heldout/
-(benchmarks/general-v3-cpu-2026-11-27/heldout.sh)."""
+(benchmarks/general-v3-cpu-2026-11-27/heldout.sh). The same numbers come from the standard path: an agent folder
+from benchmarks/general-v3-cpu-2026-11-27/temper.py, then `kinetix eval`;
+this probe (the one that ran) skips the folder."""
 
 import json
 import sys
