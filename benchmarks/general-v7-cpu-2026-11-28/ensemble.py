@@ -38,7 +38,9 @@ def ensemble_policy(mode):
                 combined = jnp.where(p > 0, jnp.log(p), -jnp.inf)
             else:
                 finite = [jnp.where(jnp.isneginf(lp), 0.0, lp) for lp in log_p]
-                combined = jnp.where(jnp.isneginf(logits[0]), -jnp.inf, sum(w * x for w, x in zip(weights, finite)))
+                combined = jnp.where(
+                    jnp.isneginf(logits[0]), -jnp.inf, sum(w * x for w, x in zip(weights, finite, strict=True))
+                )
             return MultiCategorical(combined).sample(key)
 
         return policy
@@ -59,4 +61,7 @@ for mode in modes:
     rates = [r.solve_rate for r in results]
     row = {"which": which, "seed": seed, "attempts": attempts, "mode": mode, "mean": sum(rates) / len(rates)}
     levels = {r.level: r.solve_rate for r in results}
-    print(json.dumps({**row, **{k: sum(v) / len(v) for k, v in by_size.items()}, "n": len(rates), "levels": levels}), flush=True)
+    print(
+        json.dumps({**row, **{k: sum(v) / len(v) for k, v in by_size.items()}, "n": len(rates), "levels": levels}),
+        flush=True,
+    )
