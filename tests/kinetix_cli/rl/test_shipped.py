@@ -58,7 +58,16 @@ def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
 
 
 def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
-    config = agents.load_policy("general-s").config
-    assert agents.read_card(agents.SHIPPED / "general-s").version == 2
+    config = agents.load_policy("general-s@2").config
+    assert agents.read_card(agents.shipped_agent("general-s@2")).version == 2
     recipe = load_config(EXPERIMENTS / "general.yaml", ["run.eval_levels=[.cache/reference-levels/s]"])
     assert config == recipe
+
+
+def test_general_s_v3_is_v2_blended_with_three_runs_of_the_recipe_trained_on_from_it():
+    card = agents.read_card(agents.SHIPPED / "general-s")
+    blend = card.trained["blend"]
+    assert card.version == 3 and [b["source"] for b in blend][0] == "general-s@2" and len(blend) == 4
+    assert [b["weight"] for b in blend] == pytest.approx([0.25] * 4)
+    continued = ["ppo.total_timesteps=3276800", "run.init_from=general-s@2", "run.eval_every=0", "run.seed=6"]
+    assert agents.load_policy("general-s").config == load_config(EXPERIMENTS / "general.yaml", continued)
