@@ -20,17 +20,25 @@ def studio(
     port: int = typer.Option(8765, min=0, max=65535, help="Port to listen on (0: any free port)."),
     browser: bool = typer.Option(True, "--browser/--no-browser", help="Open the page in the default browser."),
     warm: str = typer.Option("s,m,l", help="Sizes whose play step is compiled before the page opens ('' for none)."),
+    allow_host: list[str] = typer.Option(
+        [],
+        "--allow-host",
+        help="A host name requests may give besides localhost and --host (repeatable), for serving it on purpose.",
+    ),
 ) -> None:
     """Build, check, play and watch agents on levels in the browser, on the project's own engine and parser.
 
     The studio reads and writes only inside PATH. The printed URL carries a per-session token; every request
-    needs it. Ctrl-C stops it."""
+    needs it, and must be addressed to localhost, --host or an --allow-host name. Ctrl-C stops it."""
     from kinetix_cli.errors import UserError
     from kinetix_cli.studio.server import serve
 
     folder, level = (path.parent, path.name) if path.is_file() else (path, None)
     if not folder.is_dir():
         raise UserError(f"{path}: no such folder or level file")
+    bad = next((h for h in allow_host if not h or any(c in h for c in "/ \t")), None)
+    if bad is not None:
+        raise UserError(f"--allow-host: expected a host name such as my-machine.local, got {bad!r}")
     sizes = tuple(s for s in warm.split(",") if s)
     if not set(sizes) <= {"s", "m", "l"}:
         raise UserError(f"--warm: expected sizes among s, m, l separated by commas, got {warm!r}")
@@ -46,6 +54,7 @@ def studio(
         open_browser=browser,
         warm=sizes,
         level=level,
+        allow_hosts=tuple(allow_host),
         ready=ready,
         progress=lambda text: console.print(text),
     )

@@ -125,6 +125,7 @@ def parse_level(data: Any, source: str = "<level>") -> LevelSpec:
 class _Parser:
     def __init__(self, source: str) -> None:
         self.source = source
+        self.owners: dict[str, str] = {}  # a body's name -> the entity that defined it ("bodies[2]")
 
     def fail(self, entity: str, field: str, problem: str) -> LevelError:
         return LevelError(f"{self.source}: {entity}: {field}: {problem}")
@@ -250,7 +251,8 @@ class _Parser:
         body = self.keys(entity, body, _BODY_KEYS, required=("name", "shape", "position"))
         name = self.string(entity, "name", body["name"])
         if name in refs:
-            raise self.fail(entity, "name", "already used (body names must be unique and not an arena name)")
+            other = f"the arena's {name}" if refs[name].kind == "arena" else self.owners[name]
+            raise self.fail(entity, "name", f"already used by {other} (body names are unique, not an arena name)")
         shape = self.choice(entity, "shape", body["shape"], ("box", "polygon", "circle"))
         position = self.vector(entity, "position", body["position"])
         material = {
@@ -287,6 +289,7 @@ class _Parser:
             radius = self.number(entity, "radius", body["radius"])
             ref = scene.add_circle(position, radius, name=name, angle=angle, **material)
         refs[name] = ref
+        self.owners[name] = entity.partition(" ")[0]
 
     def body_ref(self, refs: dict, entity: str, field: str, value: Any) -> BodyRef:
         name = self.string(entity, field, value)

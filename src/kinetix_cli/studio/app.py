@@ -1,10 +1,12 @@
 """The studio's HTTP server: a Starlette app over `Studio`, serving the page and a JSON API.
 
-Every request must carry the session's token: the page and its files by the `token` query parameter of the printed
-URL (then by a cookie the page sets: HttpOnly, SameSite=Strict), the API by the `X-Studio-Token` header, which
-another web page cannot add to a request to this origin. Request bodies are JSON objects of at most `MAX_BODY`
-bytes. A refused or malformed request gets a 4xx JSON `{"error": "..."}` naming what was wrong; the server keeps
-running and nothing is written.
+Every request must name this machine in its `Host` header (localhost, the bound address, or a host the user
+allowed), which refuses DNS-rebinding pages, and carry the session's token: the page and its files by the `token`
+query parameter of the printed URL (then by a cookie the page sets, named after the port: HttpOnly,
+SameSite=Strict), the API by the `X-Studio-Token` header, which another web page cannot add to a request to this
+origin. Request bodies are JSON objects of at most `MAX_BODY` bytes holding finite numbers only. A refused or
+malformed request gets a 4xx JSON `{"error": "..."}` naming what was wrong; the server keeps running and nothing is
+written. Every answer is JSON a browser parses: a non-finite float never goes on the wire.
 
     GET  /                     the page            GET  /api/files              level files in the folder
     GET  /api/level?path=P     a level's JSON      GET  /api/thumbnail?path=P   a level's PNG thumbnail
@@ -18,33 +20,41 @@ running and nothing is written.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import functools
 import html
 import io
 import json
+import math
 import secrets
 import sys
 import time
 import traceback
+from collections.abc import Iterable
 from importlib import resources
 from typing import Any
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import HTMLResponse, JSONResponse, Response
 from starlette.routing import Route
+from starlette.types import ASGIApp, Receive, Scope, Send
 
 from kinetix_cli.errors import UserError
 from kinetix_cli.levels.parse import parse_level
 from kinetix_cli.studio.service import Studio
-from kinetix_cli.studio.workspace import StudioError
+from kinetix_cli.studio.workspace import StudioError, non_finite
 from kinetix_cli.viz.render import render_level
 
 MAX_BODY = 2 * 2**20
 """Largest request body [bytes]: a level of size l is ~20 KB of JSON."""
 TOKEN_HEADER = "X-Studio-Token"
-COOKIE = "kinetix_studio"
+SLOW_REQUEST = 1.0
+"""A request that took longer [s] compiled something: the memory XLA's compiler freed is handed back after it."""
+LOCAL_HOSTS = ("localhost", "127.0.0.1", "::1")
+"""Names of this machine every studio accepts in a request's `Host` header (besides its bound address)."""
 STATIC = {"studio.js": "text/javascript", "studio.css": "text/css"}
 """The page's files (package data in kinetix_cli/studio/static/) and their media types."""
 SECURITY_HEADERS = {
@@ -55,15 +65,27 @@ SECURITY_HEADERS = {
 }
 
 
-def create_app(studio: Studio, token: str) -> Starlette:
-    """The studio app; `token` is the session's secret (the printed URL carries it)."""
+def cookie_name(port: int) -> str:
+    """The session cookie's name: one per port, so that two studios on one machine keep their own."""
+    return f"kinetix_studio_{port}"
+
+
+def create_app(studio: Studio, token: str, *, port: int, hosts: Iterable[str] = ()) -> ASGIApp:
+    """The studio app; `token` is the session's secret (the printed URL carries it), `port` the port it is served
+    on (it names the cookie), `hosts` the names besides `LOCAL_HOSTS` a request's `Host` header may give (the bound
+    address, and those the user allowed with `--allow-host`)."""
+    cookie = cookie_name(port)
 
     def authorised(request: Request, *, api: bool) -> bool:
         given = request.headers.get(TOKEN_HEADER, "") if api else request.query_params.get("token", "")
-        given = given or ("" if api else request.cookies.get(COOKIE, ""))
+        given = given or ("" if api else request.cookies.get(cookie, ""))
         return secrets.compare_digest(given.encode(), token.encode())
 
-    def guarded(handler, *, api: bool = True, body: bool = False):
+    def guarded(handler, *, api: bool = True, body: bool = False, locked: bool = True):
+        """`handler(studio, args)` as an endpoint: token checked, arguments read (a JSON body or the query), run
+        on a worker thread (under the studio's lock unless `locked` is False: a pure handler touching no state
+        of the studio, such as a generator's first compile, does not hold up the others)."""
+
         @functools.wraps(handler)
         async def endpoint(request: Request) -> Response:
             if not authorised(request, api=api):
@@ -72,16 +94,21 @@ def create_app(studio: Studio, token: str) -> Starlette:
             try:
                 args = await _json_body(request) if body else dict(request.query_params)
                 start = time.perf_counter()
-                result = await run_in_threadpool(_locked, studio, handler, args)
-                timing = {"Server-Timing": f"app;dur={1000 * (time.perf_counter() - start):.3f}"}
+                result = await run_in_threadpool(_locked if locked else _call, studio, handler, args)
+                elapsed = time.perf_counter() - start
+                if elapsed > SLOW_REQUEST:
+                    release_memory()
+                timing = {"Server-Timing": f"app;dur={1000 * elapsed:.3f}"}
+                if isinstance(result, Response):
+                    return result
+                return _Json(result, headers=SECURITY_HEADERS | timing)
             except StudioError as exc:
                 return _error(exc.status, exc.message)
+            except ClientDisconnect:  # the page went away mid-request: nobody to answer
+                return Response(status_code=400)
             except Exception as exc:  # a bug: say so on the page, keep serving, print the trace for a report
                 traceback.print_exc(file=sys.stderr)
                 return _error(500, f"internal error ({type(exc).__name__}): {exc}"[:300])
-            if isinstance(result, Response):
-                return result
-            return JSONResponse(result, headers=SECURITY_HEADERS | timing)
 
         return endpoint
 
@@ -94,7 +121,7 @@ def create_app(studio: Studio, token: str) -> Starlette:
             )
         text = resources.files("kinetix_cli.studio").joinpath("static/index.html").read_text(encoding="utf-8")
         response = HTMLResponse(text.replace("{{TOKEN}}", html.escape(token)), headers=SECURITY_HEADERS)
-        response.set_cookie(COOKIE, token, httponly=True, samesite="strict")
+        response.set_cookie(cookie, token, httponly=True, samesite="strict")
         return response
 
     async def static(request: Request) -> Response:
@@ -106,8 +133,8 @@ def create_app(studio: Studio, token: str) -> Starlette:
         data = resources.files("kinetix_cli.studio").joinpath(f"static/{name}").read_bytes()
         return Response(data, media_type=STATIC[name], headers=SECURITY_HEADERS)
 
-    def post(path: str, handler):
-        return Route(path, guarded(handler, body=True), methods=["POST"])
+    def post(path: str, handler, *, locked: bool = True):
+        return Route(path, guarded(handler, body=True, locked=locked), methods=["POST"])
 
     def get(path: str, handler):
         return Route(path, guarded(handler), methods=["GET"])
@@ -119,10 +146,14 @@ def create_app(studio: Studio, token: str) -> Starlette:
         get("/api/level", _read_level),
         get("/api/thumbnail", _thumbnail),
         get("/api/agents", lambda s, a: {"agents": s.agents()}),
-        post("/api/check", lambda s, a: s.check(_field(a, "level"))),
+        post("/api/check", lambda s, a: s.check(_field(a, "level")), locked=False),
         post("/api/save", _save),
-        post("/api/generate", lambda s, a: {"level": s.generate(_field(a, "size"), a.get("seed", 0))}),
-        post("/api/mutate", lambda s, a: {"level": s.mutate(_field(a, "level"), a.get("seed", 0), a.get("edits", 1))}),
+        post("/api/generate", lambda s, a: {"level": s.generate(_field(a, "size"), a.get("seed", 0))}, locked=False),
+        post(
+            "/api/mutate",
+            lambda s, a: {"level": s.mutate(_field(a, "level"), a.get("seed", 0), a.get("edits", 1))},
+            locked=False,
+        ),
         post("/api/play/start", lambda s, a: s.play_start(_field(a, "level"))),
         post("/api/play/step", lambda s, a: s.play_step(_field(a, "play"), a.get("action"), a.get("steps", 1))),
         post("/api/play/solution", lambda s, a: {"level": s.play_solution(_field(a, "play"), _field(a, "level"))}),
@@ -132,7 +163,46 @@ def create_app(studio: Studio, token: str) -> Starlette:
             lambda s, a: s.evaluate(_field(a, "level"), _field(a, "agent"), a.get("attempts", 50), a.get("path")),
         ),
     ]
-    return Starlette(routes=routes)
+    return _HostCheck(Starlette(routes=routes), {*LOCAL_HOSTS, *(h.lower().strip("[]") for h in hosts)})
+
+
+class _HostCheck:
+    """ASGI middleware: a request whose `Host` header names another machine is refused (403) before any route
+    sees it, as Jupyter does: a page on another site that rebinds its name to 127.0.0.1 sends its own name."""
+
+    def __init__(self, app: ASGIApp, allowed: set[str]) -> None:
+        self.app = app
+        self.allowed = allowed
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] == "http":
+            host = dict(scope["headers"]).get(b"host", b"").decode("latin-1")
+            if host_name(host) not in self.allowed:
+                shown = json.dumps(host)[:80]
+                message = f"Host {shown}: the studio answers requests to localhost only (see --allow-host)"
+                await _error(403, message)(scope, receive, send)
+                return
+        await self.app(scope, receive, send)
+
+
+def host_name(host: str) -> str:
+    """The name in a `Host` header, lower case, without the port or an IPv6 address's brackets."""
+    host = host.strip().lower()
+    if host.startswith("["):
+        return host[1:].partition("]")[0]
+    return host.rpartition(":")[0] if host.count(":") == 1 else host
+
+
+def release_memory() -> None:
+    """Hand the heap's free pages back to the system (glibc's `malloc_trim`; elsewhere nothing). XLA's compiler
+    frees hundreds of MB per program, which glibc keeps: the studio held 1.2 GB after compiling its three play steps,
+    0.65 GB with this after each."""
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+
+
+def _call(studio: Studio, handler, args: dict) -> Any:
+    return handler(studio, args)
 
 
 def _locked(studio: Studio, handler, args: dict) -> Any:
@@ -140,8 +210,26 @@ def _locked(studio: Studio, handler, args: dict) -> Any:
         return handler(studio, args)
 
 
+class _Json(JSONResponse):
+    """A JSON answer in which a non-finite float (a physics state that blew up) is `null`: JavaScript's
+    `JSON.parse` reads no `NaN` or `Infinity`."""
+
+    def render(self, content: Any) -> bytes:
+        return json.dumps(_finite(content), ensure_ascii=False, allow_nan=False, separators=(",", ":")).encode()
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v) for v in value]
+    return value
+
+
 def _error(status: int, message: str) -> JSONResponse:
-    return JSONResponse({"error": message}, status_code=status, headers=SECURITY_HEADERS)
+    return _Json({"error": message}, status_code=status, headers=SECURITY_HEADERS)
 
 
 async def _json_body(request: Request) -> dict:
@@ -162,6 +250,9 @@ async def _json_body(request: Request) -> dict:
         raise StudioError(400, "request body: not valid JSON") from None
     if not isinstance(value, dict):
         raise StudioError(400, f"request body: expected a JSON object, got {type(value).__name__}")
+    where = non_finite(value)
+    if where is not None:
+        raise StudioError(400, f"request body: {where}: not a finite number (JSON holds no NaN or Infinity)")
     return value
 
 
@@ -194,6 +285,7 @@ def _save(studio: Studio, args: dict) -> dict:
     level, overwrite = _field(args, "level"), args.get("overwrite", False)
     if not isinstance(overwrite, bool):
         raise StudioError(400, f"overwrite: expected true or false, got {overwrite!r}")
+    studio.workspace.writable(_field(args, "path"))
     check = studio.check(level)
     saved = studio.workspace.save(_field(args, "path"), level, overwrite=overwrite, valid=check["ok"])
     return {"path": saved, "valid": check["ok"], "error": check.get("error")}

@@ -15,7 +15,7 @@ from pathlib import Path
 import uvicorn
 
 from kinetix_cli.errors import UserError
-from kinetix_cli.studio.app import create_app
+from kinetix_cli.studio.app import create_app, release_memory
 from kinetix_cli.studio.service import Studio
 
 
@@ -27,10 +27,12 @@ def serve(
     open_browser: bool = True,
     warm: tuple[str, ...] = ("s", "m", "l"),
     level: str | None = None,
+    allow_hosts: tuple[str, ...] = (),
     ready: Callable[[str], None] = print,
     progress: Callable[[str], None] = print,
 ) -> None:
-    """Serve the studio on `folder` until interrupted; `ready(url)` is called once it accepts requests."""
+    """Serve the studio on `folder` until interrupted; `ready(url)` is called once it accepts requests. Requests
+    must name localhost, `host` or one of `allow_hosts` in their `Host` header."""
     studio = Studio(folder)
     token = secrets.token_urlsafe(24)
     try:
@@ -42,11 +44,13 @@ def serve(
     for size in warm:
         progress(f"compiling the play step of size {size}...")
         studio.warm((size,))
+        release_memory()
     bound = sock.getsockname()[1]
     shown = "127.0.0.1" if host in ("0.0.0.0", "") else host
     query = {"token": token} | ({"level": level} if level else {})
     url = f"http://{shown}:{bound}/?{urllib.parse.urlencode(query)}"
-    config = uvicorn.Config(create_app(studio, token), log_level="warning", lifespan="off")
+    app = create_app(studio, token, port=bound, hosts=(host, *allow_hosts))
+    config = uvicorn.Config(app, log_level="warning", lifespan="off")
     server = uvicorn.Server(config)
 
     def announce() -> None:
@@ -79,7 +83,8 @@ def serve_in_background(studio: Studio, token: str) -> tuple[uvicorn.Server, int
     """`studio` served on a free localhost port from a daemon thread, for benchmarks, tests and screenshots:
     (server, port), once it accepts requests; `server.should_exit = True` stops it."""
     sock = socket.create_server(("127.0.0.1", 0))
-    server = uvicorn.Server(uvicorn.Config(create_app(studio, token), log_level="warning", lifespan="off"))
+    app = create_app(studio, token, port=sock.getsockname()[1])
+    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", lifespan="off"))
     threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True).start()
     while not server.started:
         threading.Event().wait(0.02)

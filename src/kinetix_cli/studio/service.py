@@ -15,6 +15,7 @@ import json
 import os
 import re
 import secrets
+import shlex
 import tempfile
 import threading
 from pathlib import Path
@@ -49,6 +50,7 @@ MAX_ATTEMPTS = 1000
 MAX_EDITS = 64
 """Edits one mutation request may ask for."""
 _ENTITY = re.compile(r"^(bodies|joints|thrusters)\[(\d+)\]")
+_ENTITY_REF = re.compile(r"\b(bodies|joints|thrusters)\[(\d+)\]")
 
 
 @dataclasses.dataclass
@@ -83,7 +85,8 @@ class Studio:
     def check(self, level: Any) -> dict:
         """Whether `level` is a valid level, as `kinetix validate` says it: {"ok": true, "size", "scene",
         "slots"} (slots: each body's engine slot, to pick bodies on the page), or {"ok": false, "error", "entity",
-        "field"}: the parser's one line and, where it names one, the entity (e.g. "bodies[2]") and field."""
+        "field", "also"}: the parser's one line and, where it names one, the entity (e.g. "bodies[2]") and field;
+        `also` lists the other entities whose field is at fault too (the earlier owner of a duplicate name)."""
         try:
             spec = parse_level(level, "level")
             size = spec.default_size()
@@ -92,7 +95,9 @@ class Studio:
             message = str(exc).removeprefix("level: ")
             match = _ENTITY.match(message)
             field = message.split(": ")[1] if match and message.count(": ") >= 2 else None
-            return {"ok": False, "error": message, "entity": match.group(0) if match else None, "field": field}
+            entity = match.group(0) if match else None
+            others = [m.group(0) for m in _ENTITY_REF.finditer(message.partition(": ")[2])] if field == "name" else []
+            return {"ok": False, "error": message, "entity": entity, "field": field, "also": others}
         scene = scene_json(describe_scene(built.physics, built.bindings))
         return {"ok": True, "size": size, "name": spec.name, "scene": scene, "slots": _body_slots(level, size)}
 
@@ -128,6 +133,7 @@ class Studio:
         studio's folder) in its own environment settings, its actions sampled with `seed`; returns its id, first
         frame and the seconds one step stands for (the page steps it live at that pace)."""
         spec = self._valid(level)
+        seed = _seed(seed)
         policy = self._policy(agent)
         size = spec.default_size()
         key = (policy.source, size)
@@ -138,7 +144,7 @@ class Studio:
             start = env.initial_state(spec.build(env.static))
             jax.block_until_ready(step(start, jax.random.key(0), params, policy.params))
         env, params, step = self._agent_envs[key]
-        episode = _Episode(spec, _unsolved(level), env, (params, step), None, [], policy, jax.random.key(_seed(seed)))
+        episode = _Episode(spec, _unsolved(level), env, (params, step), None, [], policy, jax.random.key(seed))
         return self._start(episode) | {"agent": agent}
 
     def play_step(self, play_id: Any, action: Any = None, steps: Any = 1) -> dict:
@@ -232,11 +238,18 @@ class Studio:
 
     def evaluate(self, level: Any, agent: Any, attempts: Any = 50, path: Any = None) -> dict:
         """The agent's solve rate on `level` over `attempts` sampled episodes (`kinetix eval`'s batched
-        evaluator), and the `kinetix finetune` command for this level (`path`: where the level is saved)."""
+        evaluator), and the `kinetix finetune` command for this level (`path`: where the level is saved), quoted
+        for a POSIX shell. Every argument is checked before the evaluation starts."""
         spec = self._valid(level)
-        policy = self._policy(agent)
         if not isinstance(attempts, int) or isinstance(attempts, bool) or not 1 <= attempts <= MAX_ATTEMPTS:
             raise StudioError(400, f"attempts: expected a whole number in 1..{MAX_ATTEMPTS}, got {attempts!r}")
+        if path is not None and not isinstance(path, str):
+            raise StudioError(400, f"path: expected the level file's path in the studio's folder, got {path!r}"[:200])
+        # the command runs where the studio was started: paths relative to that folder
+        target = _relative(self.workspace.path(path)) if path else "LEVEL.json"
+        policy = self._policy(agent)
+        source = agent if agent in shipped_names() else _relative(self.workspace.path(agent))
+        run = "runs/finetune-" + (re.sub(r"[^a-z0-9]+", "-", spec.name.lower()).strip("-") or "level")
         with tempfile.TemporaryDirectory() as folder:
             file = Path(folder) / "level.json"
             file.write_text(json.dumps(level))
@@ -244,16 +257,12 @@ class Studio:
                 (result,) = Evaluator(policy.config, [file], attempts)(policy.params)
             except UserError as exc:
                 raise StudioError(422, str(exc).replace(str(file), "level")) from None
-        # the command runs where the studio was started: paths relative to that folder
-        target = os.path.relpath(self.workspace.path(path)) if isinstance(path, str) and path else "LEVEL.json"
-        source = agent if agent in shipped_names() else os.path.relpath(self.workspace.path(agent))
-        run = "runs/finetune-" + re.sub(r"[^a-z0-9]+", "-", spec.name.lower()).strip("-")
         return {
             "solve_rate": result.solve_rate,
             "mean_return": result.mean_return,
             "mean_length": result.mean_length,
             "attempts": attempts,
-            "finetune": f"kinetix finetune {target} --from {source} --run-dir {run}",
+            "finetune": shlex.join(["kinetix", "finetune", target, "--from", source, "--run-dir", run]),
         }
 
     def _policy(self, agent: Any) -> LoadedPolicy:
@@ -291,6 +300,12 @@ def _stepper(env: KinetixEnv, network: nn.Module | None = None):
         return state, action, reward, terminated | truncated, info["solved"], info["failed"]
 
     return step
+
+
+def _relative(path: Path) -> str:
+    """`path` relative to the folder the studio was started in, never read as an option (`./-x.json`)."""
+    relative = os.path.relpath(path)
+    return f"./{relative}" if relative.startswith("-") else relative
 
 
 def _unsolved(level: dict) -> dict:

@@ -19,6 +19,8 @@ def test_bad_arguments_are_one_line(capsys, tmp_path):
     assert "nowhere: no such folder or level file" in kinetix(capsys, "studio", tmp_path / "nowhere").error_line
     line = kinetix(capsys, "studio", tmp_path, "--warm", "xl", "--no-browser").error_line
     assert "--warm: expected sizes among s, m, l" in line
+    line = kinetix(capsys, "studio", tmp_path, "--allow-host", "http://me.example/", "--no-browser").error_line
+    assert "--allow-host: expected a host name" in line
 
 
 @pytest.mark.slow
@@ -37,6 +39,10 @@ def test_the_server_prints_its_url_and_stops_cleanly(stop):
             assert page.status == 200 and b"kinetix studio" in page.read()
         with pytest.raises(urllib.error.HTTPError) as refused:
             urllib.request.urlopen(url.split("?")[0] + "api/files", timeout=30)
+        assert refused.value.code == 403
+        rebound = urllib.request.Request(url, headers={"Host": "evil.example"})  # a DNS-rebinding page's request
+        with pytest.raises(urllib.error.HTTPError) as refused:
+            urllib.request.urlopen(rebound, timeout=30)
         assert refused.value.code == 403
         process.send_signal(stop)
         out = process.communicate(timeout=60)[0]

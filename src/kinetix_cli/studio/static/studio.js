@@ -19,6 +19,7 @@ const state = {
   selected: null, // {kind: 'body' | 'joint' | 'thruster', index}
   history: [], future: [], mode: 'edit', tool: 'select',
   play: null, playing: false, pressed: new Set(), inFlight: false, timer: null, watchTimer: null,
+  choice: 0, // counts the levels chosen (opened, new, random): an answer for an older choice is dropped
 };
 
 // --- server --------------------------------------------------------------------------------------------------
@@ -179,13 +180,13 @@ const thrusters = () => state.level.thrusters || [];
 const shapeOfBody = (i) => state.check && state.check.ok && state.scene.shapes.find((s) => s.slot === state.check.slots[i]);
 const round = (v) => Math.round(v * 1000) / 1000;
 
-function edit(change) { // record the level for undo, change it, check it again
+function edit(change) { // record the level for undo, change it, check it again (a promise of the check)
   state.history.push(JSON.stringify(state.level));
   if (state.history.length > 200) state.history.shift();
   state.future = [];
   change(state.level);
   state.dirty = true;
-  refresh();
+  return refresh();
 }
 
 function restore(from, to) {
@@ -463,9 +464,9 @@ const pair = (value, onChange, step) => {
   return span;
 };
 
-function isBad(entity, name) {
+function isBad(entity, name) { // the check's error is about this field (a duplicate name: on both bodies)
   const c = state.check;
-  return !!(c && !c.ok && c.entity === entity && c.field === name);
+  return !!(c && !c.ok && c.field === name && (c.entity === entity || (c.also || []).includes(entity)));
 }
 
 function levelForm() {
@@ -618,7 +619,7 @@ function showFrame(frame) {
 async function keepSolution() {
   try {
     const answer = await api('/api/play/solution', { play: state.play, level: state.level });
-    edit((level) => { level.solution = answer.level.solution; });
+    await edit((level) => { level.solution = answer.level.solution; });
     say('the played episode is now the level\'s solution; save to write it', 'ok');
   } catch (error) { say(error.message, 'error'); }
 }
@@ -687,22 +688,28 @@ async function listFiles() {
 
 async function openFile(path) {
   if (state.dirty && !confirm('Discard the unsaved changes?')) return;
+  const choice = ++state.choice;
+  say(`opening ${path}...`);
   try {
     const answer = await api('/api/level?path=' + encodeURIComponent(path));
-    load(answer.level, path);
+    if (choice !== state.choice) return; // another level was chosen meanwhile
+    await load(answer.level, path);
     if (answer.notes.length) say('imported: ' + answer.notes.join('; '));
-  } catch (error) { say(error.message, 'error'); }
+  } catch (error) { if (choice === state.choice) say(error.message, 'error'); }
 }
 
-function load(level, path) {
+function load(level, path, dirty = false) { // the level on the page from now on (a promise of its check)
   state.level = level;
   state.path = path;
   state.history = [];
   state.future = [];
   state.selected = null;
-  state.dirty = false;
-  refresh();
+  state.dirty = dirty;
+  state.check = null;
+  state.scene = null; // nothing of the previous level stays drawn
+  drawScene(null);
   for (const li of $('file-list').children) li.classList.toggle('on', li.dataset.path === path);
+  return refresh();
 }
 
 async function save(path, overwrite) {
@@ -747,16 +754,29 @@ function setMode(mode) {
 
 async function generate() {
   if (state.dirty && !confirm('Discard the unsaved changes?')) return;
+  const choice = ++state.choice, size = $('random-size').value, start = performance.now();
+  const waiting = () => { // after a second, the wait is the generator's first compile for this size
+    const seconds = Math.round((performance.now() - start) / 1000);
+    say(seconds < 1 ? `generating a random level of size ${size}...`
+      : `compiling the generator for size ${size} (once per size and studio, 15-25 s): ${seconds} s`);
+  };
+  waiting();
+  const ticker = setInterval(() => { if (choice === state.choice) waiting(); }, 1000);
   try {
-    const answer = await api('/api/generate', { size: $('random-size').value, seed: Math.floor(Math.random() * 2 ** 31) });
-    load(answer.level, null);
-    state.dirty = true;
-  } catch (error) { say(error.message, 'error'); }
+    const answer = await api('/api/generate', { size, seed: Math.floor(Math.random() * 2 ** 31) });
+    if (choice === state.choice) await load(answer.level, null, true);
+  } catch (error) {
+    if (choice === state.choice) say(error.message, 'error');
+  } finally {
+    clearInterval(ticker);
+  }
 }
 
 async function mutate() {
+  const choice = state.choice, before = JSON.stringify(state.level);
   try {
     const answer = await api('/api/mutate', { level: state.level, seed: Math.floor(Math.random() * 2 ** 31), edits: 1 });
+    if (choice !== state.choice || before !== JSON.stringify(state.level)) return; // the level changed meanwhile
     edit((level) => { for (const key of Object.keys(level)) delete level[key]; Object.assign(level, answer.level); });
   } catch (error) { say(error.message, 'error'); }
 }
@@ -766,7 +786,7 @@ for (const b of document.querySelectorAll('#tools [data-tool]')) b.addEventListe
 $('undo').addEventListener('click', () => restore(state.history, state.future));
 $('redo').addEventListener('click', () => restore(state.future, state.history));
 $('delete').addEventListener('click', () => { if (state.selected) { const sel = state.selected; edit((level) => remove(level, sel)); state.selected = null; } });
-$('new').addEventListener('click', () => { if (!state.dirty || confirm('Discard the unsaved changes?')) { load(newLevel(), null); } });
+$('new').addEventListener('click', () => { if (!state.dirty || confirm('Discard the unsaved changes?')) { state.choice++; load(newLevel(), null); } });
 $('save').addEventListener('click', () => (state.path ? save(state.path, true) : saveAs()));
 $('save-as').addEventListener('click', saveAs);
 $('random').addEventListener('click', generate);
