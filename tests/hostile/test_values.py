@@ -15,6 +15,7 @@ from helpers.paths import REFERENCE_LEVELS
 from helpers.runs import tiny_config
 from kinetix_cli.errors import UserError
 from kinetix_cli.rl import train as train_module
+from kinetix_cli.rl.curricula import dr
 
 
 def level_file(tmp_path, change, name="car.json"):
@@ -125,13 +126,13 @@ def test_flag_values_out_of_range_are_one_line(capsys, tmp_path, args, flag):
 
 def test_a_run_that_diverges_stops_without_saving(tmp_path, tiny_pool, monkeypatch):
     """NaN losses end the run with one line (exit 2) and no checkpoint of the diverged update."""
-    real = train_module.ppo_update
+    real = dr.ppo_update
 
     def diverging(runner, env_params, levels, **static):
         runner, metrics = real(runner, env_params, levels, **static)
         return runner, metrics | {"loss": metrics["loss"] * math.nan}
 
-    monkeypatch.setattr(train_module, "ppo_update", diverging)
+    monkeypatch.setattr(dr, "ppo_update", diverging)
     with pytest.raises(UserError, match="update 1: loss not finite: training diverged"):
         train_module.train(tiny_config(), tmp_path / "run", pool=tiny_pool)
     assert not (tmp_path / "run" / "checkpoints" / "1").exists()

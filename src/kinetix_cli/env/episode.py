@@ -2,7 +2,9 @@
 generator's filters.
 
 `run_episode(env, params, level, policy, key, horizon)` plays one episode from `level` (no auto-reset) and
-returns its `Outcome`; with `record=True` also a `Trace` of every step. A policy is a pure function
+returns its `Outcome`; with `record=True` also a `Trace` of every step; with `restart=True` it plays all `horizon`
+steps, an episode that ends restarting from `level` (SFL's scoring counts the episodes solved). A policy is a pure
+function
 `policy(key, obs, t) -> action`: `open_loop(actions)` replays a fixed (horizon, ...) action sequence (the
 observation is never computed then), `kinetix_cli.rl.networks.sampling_policy` samples from a network. The
 episode's key is split into one key per step, handed to the policy. Steps after the episode ended are computed
@@ -37,6 +39,11 @@ class Outcome:
         length: environment steps until the end (the horizon if it never ended).
         total_return: summed reward, shaping included.
         min_distance: smallest green-blue distance seen [m].
+        episodes: episodes that ended (0 or 1; with `run_episode`'s `restart`, every one in the horizon).
+        solves: those of them that ended solved.
+
+    With `restart` the first five are over every episode played: any solved, any failed, the steps played, the
+    summed return and the smallest distance.
     """
 
     solved: jax.Array
@@ -44,14 +51,18 @@ class Outcome:
     length: jax.Array
     total_return: jax.Array
     min_distance: jax.Array
+    episodes: jax.Array
+    solves: jax.Array
 
     @staticmethod
     def start(state: EnvState) -> Outcome:
         """Nothing happened yet."""
-        return Outcome(jnp.bool_(False), jnp.bool_(False), jnp.int32(0), jnp.float32(0.0), state.distance)
+        nothing, zero = jnp.bool_(False), jnp.int32(0)
+        return Outcome(nothing, nothing, zero, jnp.float32(0.0), state.distance, zero, zero)
 
-    def after_step(self, done: jax.Array, reward: jax.Array, info: dict) -> Outcome:
-        """Count one environment step unless the episode had already ended (`done` before the step)."""
+    def after_step(self, done: jax.Array, reward: jax.Array, ended: jax.Array, info: dict) -> Outcome:
+        """Count one environment step unless the episode had already ended (`done` before the step); `ended`: the
+        step ended an episode."""
         live = ~done
         return Outcome(
             solved=self.solved | (live & info["solved"]),
@@ -59,6 +70,8 @@ class Outcome:
             length=self.length + live.astype(jnp.int32),
             total_return=self.total_return + jnp.where(live, reward, 0.0),
             min_distance=jnp.where(live, jnp.minimum(self.min_distance, info["distance"]), self.min_distance),
+            episodes=self.episodes + (live & ended).astype(jnp.int32),
+            solves=self.solves + (live & ended & info["solved"]).astype(jnp.int32),
         )
 
 
@@ -93,8 +106,10 @@ def run_episode(
     key: jax.Array,
     horizon: int,
     record: bool = False,
+    restart: bool = False,
 ) -> Outcome | tuple[Outcome, Trace]:
-    """Play one episode of at most `horizon` steps from `level`. Pure; vmap over levels, keys or policies' data.
+    """Play one episode of at most `horizon` steps from `level`, or with `restart` (static) `horizon` steps in
+    which every episode that ends restarts from `level`. Pure; vmap over levels, keys or policies' data.
 
     Returns the `Outcome`, and with `record` (static) also the `Trace` of every step.
     """
@@ -104,9 +119,14 @@ def run_episode(
         state, outcome, done = carry
         t, k = inputs
         action = policy(k, env.observe(state), t)
-        _, state, reward, terminated, truncated, info = env.step_env(state, action, params)
-        trace = Trace(state.physics, action, reward, ~done & (terminated | truncated)) if record else None
-        return (state, outcome.after_step(done, reward, info), done | terminated | truncated), trace
+        if restart:
+            _, state, reward, terminated, truncated, info = env.step(state, action, params, level)
+        else:
+            _, state, reward, terminated, truncated, info = env.step_env(state, action, params)
+        ended = terminated | truncated
+        trace = Trace(state.physics, action, reward, ~done & ended) if record else None
+        outcome = outcome.after_step(done, reward, ended, info)
+        return (state, outcome, done if restart else done | ended), trace
 
     steps = (jnp.arange(horizon, dtype=jnp.int32), jax.random.split(key, horizon))
     (_, outcome, _), trace = jax.lax.scan(body, (state, Outcome.start(state), jnp.bool_(False)), steps)

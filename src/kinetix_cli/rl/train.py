@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import functools
 import importlib.util
 import json
 import math
@@ -57,7 +56,6 @@ from kinetix_cli.parallel import (
 )
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
-from kinetix_cli.rl.buffer import buffer_metrics
 from kinetix_cli.rl.checkpoints import (
     CHECKPOINTS,
     checkpoint_manager,
@@ -65,12 +63,11 @@ from kinetix_cli.rl.checkpoints import (
     save_runner,
     writing,
 )
-from kinetix_cli.rl.curricula import plr
-from kinetix_cli.rl.curricula.sfl import refresh_buffer, sfl_update
+from kinetix_cli.rl.curricula import curriculum_class, make_curriculum
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
-from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer, ppo_update
+from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer
 from kinetix_cli.rl.trees import tree_mismatch
 
 METRICS_FILE = "metrics.jsonl"
@@ -140,19 +137,10 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     env, env_params = make_env(config.env)
     env_params = replicate(env_params, mesh)
     network = make_network(config.model, config.env)
-    settings, curriculum = config.ppo, config.curriculum
-    sfl, buffered = curriculum.name == "sfl", curriculum.name != "dr"
-    parts = {"env": env, "network": network, "settings": settings, "fresh": fresh}
-    if curriculum.name in ("plr", "accel"):
-        update = functools.partial(plr.plr_update, **parts, curriculum=curriculum)
-    elif sfl:
-        update = functools.partial(sfl_update, **parts, curriculum=curriculum)
-    else:
-        update = functools.partial(ppo_update, **parts)
-    refresh = functools.partial(refresh_buffer, env=env, network=network, fresh=fresh, curriculum=curriculum)
+    settings = config.ppo
+    curriculum = make_curriculum(config.curriculum, env=env, network=network, ppo=settings, fresh=fresh)
     key = replicate(jax.random.key(config.run.seed), mesh)
-    size = curriculum.buffer_size * buffered
-    runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=size)
+    runner = init_runner(env, network, settings, pool, key, fresh=fresh, buffer_size=curriculum.buffer_size)
     origin = f"--from {config.run.init_from}" if init_params is not None else f"run.init_from {config.run.init_from}"
     if init_params is None and config.run.init_from:
         init_params = load_policy(config.run.init_from).params
@@ -195,16 +183,13 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
             if pool_every and u // pool_every != pool_round:  # a new generated pool (a resumed run: its round's)
                 pool_round = u // pool_every
                 pool = replicate(level_pool(config, make_mesh(devices, local_only=True), pool_round), mesh)
-            if sfl and u % curriculum.refresh_every == 0:  # the curriculum's buffer, scored with the current policy
-                scored = refresh(runner.params, env_params, pool, _scoring_key(key, u), buffer=runner.buffer, update=u)
-                runner = runner.replace(buffer=scored)
-            runner, metrics = update(runner, env_params, pool)
-            metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
-            metrics = plr.logged(metrics) if curriculum.name in ("plr", "accel") else metrics
+            runner = curriculum.before_update(runner, env_params, pool, _scoring_key(key, u), u)
+            runner, metrics = curriculum.update(runner, env_params, pool)
+            metrics = curriculum.logged({k: float(v) for k, v in jax.device_get(metrics).items()})
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
             record = {"update": u + 1, "steps": steps, "sps": settings.batch_size / seconds} | metrics
-            record |= _curriculum_metrics(runner, config, steps)
+            record |= curriculum.metrics(runner, steps)
             record |= {"pool_round": pool_round} if pool_every else {}
             if not all(math.isfinite(v) for v in metrics.values()):
                 bad = sorted(k for k, v in metrics.items() if not math.isfinite(v))
@@ -270,12 +255,7 @@ def _write_failed(run_dir: Path, update: int, exc: Exception, kept: int | None) 
 def _check_split(config: ExperimentConfig, mesh) -> None:
     """One clear line unless every batch the run splits across devices splits evenly."""
     check_divisible(config.ppo.num_envs, mesh, "ppo.num_envs")
-    if config.curriculum.name == "sfl":
-        check_divisible(
-            config.curriculum.score_batch * config.curriculum.score_attempts,
-            mesh,
-            "curriculum.score_batch * curriculum.score_attempts",
-        )
+    curriculum_class(config.curriculum).check_split(config.curriculum, mesh)
 
 
 def finetune_config(
@@ -337,24 +317,9 @@ def _replace_subtrees(params: dict, fresh: dict, name: str) -> dict:
 
 
 def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
-    """The key of the curriculum refresh before `update`: a stream of its own, a function of the update only,
+    """The key of the curriculum's work before `update`: a stream of its own, a function of the update only,
     so a resumed run scores exactly as an uninterrupted one."""
     return jax.random.fold_in(jax.random.fold_in(run_key, 1), update)
-
-
-def _curriculum_metrics(runner: Runner, config: ExperimentConfig, steps: int) -> dict:
-    """`total_steps`: every environment step so far, `steps` of the updates plus SFL's scoring rollouts. With a
-    curriculum also the buffer's size, mean score and solve-rate distribution, and the environment steps spent
-    scoring levels rather than training on them (`scoring_steps`: SFL's refreshes, PLR's updates on new levels)
-    and their share of `total_steps` (`scoring_share`)."""
-    if runner.buffer is None:
-        return {"total_steps": steps}
-    rounds = int(runner.buffer.rounds)
-    sfl = config.curriculum.name == "sfl"
-    scoring = rounds * (config.curriculum.scoring_steps if sfl else config.ppo.batch_size)
-    total = steps + scoring if sfl else steps
-    buffer = {k: float(v) for k, v in jax.device_get(buffer_metrics(runner.buffer)).items()}
-    return buffer | {"total_steps": total, "scoring_steps": scoring, "scoring_share": scoring / total}
 
 
 def _evaluator(config: ExperimentConfig, devices: int | None) -> Evaluator | None:

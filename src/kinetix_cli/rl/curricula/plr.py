@@ -1,5 +1,6 @@
 """Robust PLR, prioritised level replay (Jiang et al., 2021), as the Kinetix paper runs it: the update itself is
-`plr_update`, after the buffer's replay distribution, the level scores and the buffer updates.
+`plr_update`, after the buffer's replay distribution, the level scores and the buffer updates. ACCEL (`accel.py`)
+is this update with a mutation round.
 
 Every update resets all environments. With probability `replay_prob` (once the buffer is `min_fill` full) they
 replay levels sampled from the buffer, train on them and rescore them; otherwise they play new levels from the
@@ -11,7 +12,9 @@ updates since it was last played.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+from collections.abc import Callable
 
 import flax.linen as nn
 import jax
@@ -21,9 +24,9 @@ from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels, index_level
 from kinetix_cli.generator.fresh import FreshLevels
-from kinetix_cli.generator.mutate import mutate_level
 from kinetix_cli.parallel import batch_sharded
 from kinetix_cli.rl.buffer import LevelBuffer, top_levels
+from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.ppo import LOSS_METRICS, Runner, collect, gae, learn, rollout_metrics
 
 
@@ -103,7 +106,11 @@ def insert(
     )
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
+Mutation = Callable[[jax.Array, Level, KinetixEnv, CurriculumSettings], Level]
+"""mutation(key, levels, env, curriculum) -> the batch of levels, each edited (ACCEL's `accel.mutate_levels`)."""
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum", "mutation"))
 def plr_update(
     runner: Runner,
     env_params: EnvParams,
@@ -114,12 +121,13 @@ def plr_update(
     settings: PPOSettings,
     fresh: FreshLevels | None,
     curriculum: CurriculumSettings,
+    mutation: Mutation | None = None,
 ) -> tuple[Runner, dict]:
-    """One update of robust PLR or ACCEL: every environment is reset to a level of its own and replays it
-    whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer levels sampled by
-    `replay_probabilities`, trains on them as `rl.ppo.ppo_update` does and rescores them; the other
-    updates play candidates without training (new levels from the source, `fresh` or draws from `levels`; with
-    ACCEL also `edits`-fold mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
+    """One update of robust PLR or, with a `mutation`, ACCEL: every environment is reset to a level of its own
+    and replays it whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer
+    levels sampled by `replay_probabilities`, trains on them as `rl.ppo.ppo_update` does and rescores them; the
+    other updates play candidates without training (new levels from the source, `fresh` or draws from `levels`;
+    with a `mutation` also mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
     these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
     picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
     Metrics: those of `ppo_update` (losses 0 when nothing was trained: `logged` drops them), `replay` and
@@ -129,7 +137,7 @@ def plr_update(
     key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
     ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
     u, p = jax.random.uniform(k_mode), curriculum.replay_prob
-    accel = curriculum.name == "accel"
+    accel = mutation is not None
     replay = ready & (u < (p / (1.0 + p) if accel else p))
     mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
     slots = sample_replay(buffer, k_replay, n, runner.update, curriculum)
@@ -137,8 +145,7 @@ def plr_update(
     new = lambda: fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)  # noqa: E731
     candidates = jax.lax.cond(replay, lambda: buffered, new)  # a replay round samples no new levels
     if accel:
-        edit = functools.partial(mutate_level, env.static, edits=curriculum.edits)
-        mutate_all = lambda: jax.vmap(edit)(jax.random.split(k_mutate, n), buffered)  # noqa: E731
+        mutate_all = lambda: mutation(k_mutate, buffered, env, curriculum)  # noqa: E731
         mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
         candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
     played = batch_sharded(jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates))
@@ -169,9 +176,28 @@ def plr_update(
     return runner, rollout_metrics(transitions, finished_return, losses) | modes
 
 
-def logged(metrics: dict) -> dict:
-    """An update's metrics as the run logs them: a round that trained nothing (new levels or mutations) carries no
-    losses, entropy or KL, so their curves show only the updates that learned."""
-    if metrics["replay"]:
-        return metrics
-    return {k: v for k, v in metrics.items() if k not in LOSS_METRICS}
+@dataclasses.dataclass(frozen=True)
+class PLR(Curriculum):
+    """Robust PLR: a buffer of `curriculum.buffer_size` levels; its scoring rounds are updates that trained
+    nothing (their steps are part of the updates' steps)."""
+
+    mutation = None
+    """ACCEL's mutation of buffer levels (`accel.ACCEL`), none for PLR."""
+
+    @property
+    def buffer_size(self) -> int:
+        return self.curriculum.buffer_size
+
+    def update(self, runner, env_params, pool):
+        parts = {"env": self.env, "network": self.network, "settings": self.settings, "fresh": self.fresh}
+        return plr_update(runner, env_params, pool, **parts, curriculum=self.curriculum, mutation=self.mutation)
+
+    def logged(self, metrics: dict) -> dict:
+        """A round that trained nothing (new levels or mutations) carries no losses, entropy or KL, so their
+        curves show only the updates that learned."""
+        if metrics["replay"]:
+            return metrics
+        return {k: v for k, v in metrics.items() if k not in LOSS_METRICS}
+
+    def scoring_steps(self, runner):
+        return int(runner.buffer.rounds) * self.settings.batch_size, False

@@ -11,6 +11,7 @@ from the buffer and the rest from the source.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import flax.linen as nn
@@ -19,10 +20,13 @@ import jax.numpy as jnp
 
 from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.episode import run_episode
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
-from kinetix_cli.parallel import batch_sharded, replicated
+from kinetix_cli.parallel import batch_sharded, check_divisible, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
+from kinetix_cli.rl.curricula.base import Curriculum
+from kinetix_cli.rl.networks import sampling_policy
 from kinetix_cli.rl.ppo import Runner, first_reset, train_on, update_keys
 
 
@@ -38,22 +42,17 @@ def episode_counts(
     attempts: int = 1,
 ) -> tuple[jax.Array, jax.Array]:
     """Solved and ended episodes, each (batch,) float32, of the sampling policy on each of a batch of levels:
-    `attempts` copies of each level played side by side for `steps` environment steps, every ended episode
-    restarted on the same level, all copies counted together."""
+    `attempts` copies of each level played side by side for `steps` environment steps by the episode runner
+    (`env.episode.run_episode` with `restart`: every ended episode restarts on the same level), all copies counted
+    together."""
     count = jax.tree.leaves(levels)[0].shape[0]
     levels = jax.tree.map(lambda x: jnp.repeat(x, attempts, axis=0), levels)  # copies of a level are adjacent
-    obs, state = jax.vmap(env.reset_to_level)(levels)
-    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
-
-    def play(carry, key):
-        obs, state, ended, solved = carry
-        action = network.apply(params, obs)[0].sample(key)
-        obs, state, _, terminated, truncated, info = step(state, action, env_params, levels)
-        return (obs, state, ended + (terminated | truncated), solved + info["solved"]), None
-
-    zeros = jnp.zeros(count * attempts, jnp.float32)
-    (_, _, ended, solved), _ = jax.lax.scan(play, (obs, state, zeros, zeros), jax.random.split(key, steps))
-    return solved.reshape(count, attempts).sum(1), ended.reshape(count, attempts).sum(1)
+    play = functools.partial(
+        run_episode, env, env_params, policy=sampling_policy(network, params), horizon=steps, restart=True
+    )
+    outcome = jax.vmap(lambda level, k: play(level, key=k))(levels, jax.random.split(key, count * attempts))
+    counted = lambda x: x.astype(jnp.float32).reshape(count, attempts).sum(1)  # noqa: E731
+    return counted(outcome.solves), counted(outcome.episodes)
 
 
 @functools.partial(jax.jit, static_argnames=("env", "network", "fresh", "curriculum"))
@@ -124,3 +123,32 @@ def sfl_update(
     if fresh is not None:
         runner = first_reset(runner, env, pool, k_first)
     return train_on(runner, env_params, pool, env=env, network=network, settings=settings)
+
+
+@dataclasses.dataclass(frozen=True)
+class SFL(Curriculum):
+    """Sampling for learnability: a buffer of `curriculum.buffer_size` levels, scored again before every
+    `curriculum.refresh_every`-th update (its rollouts come on top of the updates' steps)."""
+
+    @property
+    def buffer_size(self) -> int:
+        return self.curriculum.buffer_size
+
+    @classmethod
+    def check_split(cls, curriculum, mesh) -> None:
+        batch = curriculum.score_batch * curriculum.score_attempts
+        check_divisible(batch, mesh, "curriculum.score_batch * curriculum.score_attempts")
+
+    def before_update(self, runner, env_params, pool, key, update):
+        if update % self.curriculum.refresh_every:
+            return runner
+        parts = {"env": self.env, "network": self.network, "fresh": self.fresh, "curriculum": self.curriculum}
+        buffer = refresh_buffer(runner.params, env_params, pool, key, **parts, buffer=runner.buffer, update=update)
+        return runner.replace(buffer=buffer)
+
+    def update(self, runner, env_params, pool):
+        parts = {"env": self.env, "network": self.network, "settings": self.settings, "fresh": self.fresh}
+        return sfl_update(runner, env_params, pool, **parts, curriculum=self.curriculum)
+
+    def scoring_steps(self, runner):
+        return int(runner.buffer.rounds) * self.curriculum.scoring_steps, True
