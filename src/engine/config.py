@@ -52,6 +52,15 @@ class Static:
         """Polygons then circles: body slots [0, P) are polygons, [P, P + C) circles."""
         return self.num_polygons + self.num_circles
 
+    def slot(self, kind: str, index):
+        """The body slot of the `index`-th body of `kind`: 'arena' (slots 0-3: floor, left wall, right wall,
+        ceiling), 'polygon' (the level's polygons, from slot 4) or 'circle' (from slot `num_polygons`). The one
+        rule that numbers body slots; `index` may be an int or a traced array."""
+        first = {"arena": 0, "polygon": NUM_ARENA_POLYGONS, "circle": self.num_polygons}
+        if kind not in first:
+            raise ValueError(f"kind must be one of {', '.join(first)}, got {kind!r}")
+        return first[kind] + index
+
     @property
     def num_actions(self) -> int:
         """One action per joint (motor, in [-1, 1]) then one per thruster (in [0, 1])."""

@@ -267,7 +267,7 @@ class Scene:
     def slot(self, ref: BodyRef, static: Static) -> int:
         """Global body slot of a handle for a given size."""
         self.body(ref)
-        return {"arena": 0, "polygon": NUM_ARENA_POLYGONS, "circle": static.num_polygons}[ref.kind] + ref.index
+        return static.slot(ref.kind, ref.index)
 
     def build(self, static: Static) -> State:
         """Validate and build the device state (float32, int32, bool) for size `static`."""
@@ -279,12 +279,9 @@ class Scene:
         _vector("scene", "gravity", self.gravity)
         n = static.num_bodies
         bodies = _empty_bodies(n)
-        for i, body in enumerate(self.arena):
-            _fill_body(bodies, i, body)
-        for i, body in enumerate(self.polygons):
-            _fill_body(bodies, NUM_ARENA_POLYGONS + i, body)
-        for i, body in enumerate(self.circles):
-            _fill_body(bodies, static.num_polygons + i, body)
+        for kind, kept in (("arena", self.arena), ("polygon", self.polygons), ("circle", self.circles)):
+            for i, body in enumerate(kept):
+                _fill_body(bodies, static.slot(kind, i), body)
 
         joints = _empty_joints(static.num_joints)
         for j, joint in enumerate(self.joints):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -36,6 +37,16 @@ def test_slots_polygons_then_circles():
     bodies = scene.build_numpy(S).bodies
     assert bodies.active.tolist() == [True] * 7
     assert bodies.fixed.tolist() == [True] * 4 + [False] * 3
+
+
+def test_one_rule_numbers_the_body_slots_of_every_size():
+    s, m = SIZES["s"], SIZES["m"]  # s: 5 polygon slots and 2 circles; m: 6 and 3
+    kinds = [("arena", 0), ("arena", 3), ("polygon", 0), ("circle", 0), ("circle", 1)]
+    assert [s.slot(kind, i) for kind, i in kinds] == [0, 3, 4, 5, 6]
+    assert [m.slot("polygon", 1), m.slot("circle", 0)] == [5, 6]
+    assert np.asarray(m.slot("circle", jnp.arange(3))).tolist() == [6, 7, 8]  # traced indices too
+    with pytest.raises(ValueError, match="kind must be one of"):
+        s.slot("joint", 0)
 
 
 def test_joint_anchors_and_fixed_reference_angle():

@@ -9,7 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from engine import NUM_ARENA_POLYGONS, Scene, Static
+from engine import Scene, Static
 
 
 class Jax2DMissing(RuntimeError):
@@ -85,12 +85,12 @@ def build_jax2d_state(scene: Scene, static: Static):
         }
 
     for i in range(len(scene.polygons)):
-        slot = NUM_ARENA_POLYGONS + i
+        slot = static.slot("polygon", i)
         n = int(b.num_vertices[slot])
         clockwise = np.asarray(b.vertices[slot, :n][::-1])
         state, _ = j2d["polygon"](state, ssp, np.asarray(b.position[slot]), clockwise, n, **material(slot))
     for i in range(len(scene.circles)):
-        slot = static.num_polygons + i
+        slot = static.slot("circle", i)
         state, _ = j2d["circle"](state, ssp, np.asarray(b.position[slot]), float(b.radius[slot]), **material(slot))
     jt = built.joints
     for j in range(len(scene.joints)):

@@ -172,7 +172,7 @@ def free_slot(static: Static, draft: Draft, want_circle: jax.Array) -> tuple[jax
     poly_room = draft.polygons < static.num_polygons - NUM_ARENA_POLYGONS
     circle_room = draft.circles < static.num_circles
     is_circle = jnp.where(want_circle, circle_room, ~poly_room)
-    slot = jnp.where(is_circle, static.num_polygons + draft.circles, NUM_ARENA_POLYGONS + draft.polygons)
+    slot = jnp.where(is_circle, static.slot("circle", draft.circles), static.slot("polygon", draft.polygons))
     return slot.astype(jnp.int32), is_circle, poly_room | circle_room
 
 
@@ -512,9 +512,8 @@ def compact_slots(static: Static, level: Level) -> Level:
 def permute_slots(static: Static, level: Level, polygons, circles, joint_order, thruster_order) -> Level:
     """Reorder the non-arena polygon slots, the circle slots, the joints and the thrusters (each an int permutation
     of its range, new slot -> old slot), keeping every joint and thruster attached to the same bodies."""
-    order = jnp.concatenate(
-        [jnp.arange(NUM_ARENA_POLYGONS), NUM_ARENA_POLYGONS + polygons, static.num_polygons + circles]
-    )
+    arena = static.slot("arena", jnp.arange(NUM_ARENA_POLYGONS))
+    order = jnp.concatenate([arena, static.slot("polygon", polygons), static.slot("circle", circles)])
     new_slot = jnp.argsort(order)  # old body slot -> new body slot
     physics = level.physics
     bodies = jax.tree.map(lambda x: x[order], physics.bodies)

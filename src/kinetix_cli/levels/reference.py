@@ -188,11 +188,11 @@ class _Converter:
 
         live = [k for k, (_, _, body) in enumerate(shapes) if k >= NUM_ARENA_POLYGONS and self.active(body, k, shapes)]
         static, key = self.size(data, polygons, circles, joints, thrusters, live, shapes)
-        slot_of = {k: k for k in range(NUM_ARENA_POLYGONS)}
-        next_slot = {"polygon": NUM_ARENA_POLYGONS, "circle": static.num_polygons}
+        slot_of = {k: static.slot("arena", k) for k in range(NUM_ARENA_POLYGONS)}
+        placed = {"polygon": 0, "circle": 0}
         for k in live:
-            slot_of[k] = next_slot[shapes[k][0]]
-            next_slot[shapes[k][0]] += 1
+            slot_of[k] = static.slot(shapes[k][0], placed[shapes[k][0]])
+            placed[shapes[k][0]] += 1
 
         level = Scene().build_numpy(static)
         arrays = {

@@ -26,7 +26,7 @@ import jax.numpy as jnp
 import numpy as np
 from flax import linen as nn
 
-from engine import NUM_ARENA_POLYGONS, SIZES, Scene
+from engine import SIZES, Scene
 from kinetix_cli.constants import ACTION_WIDTH, INT32_MAX
 from kinetix_cli.env.actions import action_space, binding_values
 from kinetix_cli.env.environment import EnvState, KinetixEnv
@@ -314,14 +314,11 @@ def _unsolved(level: dict) -> dict:
 
 def _body_slots(level: dict, size: str) -> list[int]:
     """The engine slot of each body in the file's order (polygons and circles are numbered apart)."""
-    polygons, circles, slots = 0, 0, []
+    placed, slots = {"polygon": 0, "circle": 0}, []
     for body in level.get("bodies", []):
-        if body.get("shape") == "circle":
-            slots.append(SIZES[size].num_polygons + circles)
-            circles += 1
-        else:
-            slots.append(NUM_ARENA_POLYGONS + polygons)
-            polygons += 1
+        kind = "circle" if body.get("shape") == "circle" else "polygon"
+        slots.append(SIZES[size].slot(kind, placed[kind]))
+        placed[kind] += 1
     return slots
 
 
