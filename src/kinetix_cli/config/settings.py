@@ -1,36 +1,16 @@
-"""Typed experiment config: frozen dataclasses, loaded from YAML files in `experiments/`, overridden from the CLI.
-
-An experiment file has one mapping per section (`env`, `model`, `ppo`, `run`, `levels`, `curriculum`); every field
-has a default except `ppo.total_timesteps`. `load_config(path, ["ppo.lr=3e-4"])` reads a file, applies `--set`
-overrides and returns a validated `ExperimentConfig`; `save_config` writes the resolved config (every field, with a
-`format: kinetix-experiment/1` line) that `load_config` reads back to an equal config.
-
-Every mistake is a `ConfigError` (a `UserError`: one line, the CLI exits 2) naming the file or `--set`, the dotted
-key and what was expected:
-
-    experiments/x.yaml: unknown key 'ppo.learning_rate'; did you mean 'ppo.lr'?
-    experiments/x.yaml: ppo.lr: expected a number, got 'fast' (str)
-
-Numbers may be written `5e-5` or `1e6` (PyYAML alone reads those as strings); an integral float such as `5e9` is
-accepted for an integer field. The choices of the string fields come from `engine.SIZES` and
-`kinetix_cli.constants`, so they cannot drift from what the environment and the networks accept.
-"""
+"""The experiment's settings: one frozen dataclass per YAML section (`env`, `model`, `ppo`, `run`, `levels`,
+`curriculum`) and `ExperimentConfig`, the whole experiment. Each field has a docstring line with its unit and
+reference value; each class checks its fields when built (`config.fields`). The choices of the string fields come
+from `engine.SIZES` and `kinetix_cli.constants`, so they cannot drift from what the environment and the networks
+accept."""
 
 from __future__ import annotations
 
 import dataclasses
-import difflib
-import math
-import os
-import re
-import types
-import typing
-from pathlib import Path
-from typing import Any, Literal, Union
-
-import yaml
+from typing import ClassVar, Literal
 
 from engine import SIZES
+from kinetix_cli.config.fields import ConfigError, check_types, require, within
 from kinetix_cli.constants import (
     ACTION_TYPES,
     EXPERIMENT_FORMAT,
@@ -40,8 +20,6 @@ from kinetix_cli.constants import (
     NUM_ATTENTION_CHANNELS,
     OBSERVATION_TYPES,
 )
-from kinetix_cli.errors import UserError
-from kinetix_cli.io import atomic_write_text
 
 CONFIG_FORMAT = EXPERIMENT_FORMAT
 CONFIG_FILENAME = "config.yaml"  # the resolved config saved in every run directory
@@ -55,10 +33,6 @@ WandbMode = Literal["off", "offline", "online"]
 LevelSource = Literal["fresh", "generated", "levelset", "files"]
 CurriculumName = Literal["dr", "sfl", "plr", "accel"]
 PLRScore = Literal["maxmc", "pvl"]
-
-
-class ConfigError(UserError):
-    """A bad experiment config: the message names the file (or `--set`), the dotted key and what was expected."""
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -81,6 +55,8 @@ class EnvSettings:
             (PPO bootstraps from the value of its last observation); it is not a failure.
     """
 
+    SECTION: ClassVar[str] = "env"
+
     size: Size = "m"
     observation: Observation = "symbolic-entity"
     action: ActionKind = "multi-discrete"
@@ -89,10 +65,10 @@ class EnvSettings:
     max_steps: int = 256
 
     def __post_init__(self):
-        _check_types(self)
-        _within(self, "dense_reward_scale", 0, 1000)
-        _within(self, "frame_skip", 1, 1000)
-        _within(self, "max_steps", 1, INT32_MAX)
+        check_types(self)
+        within(self, "dense_reward_scale", 0, 1000)
+        within(self, "frame_skip", 1, 1000)
+        within(self, "max_steps", 1, INT32_MAX)
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -114,6 +90,8 @@ class ModelSettings:
             count in neither log-probability nor entropy (entity models only; off: the reference's policy).
     """
 
+    SECTION: ClassVar[str] = "model"
+
     name: ModelName = "transformer"
     width: int = 128
     actor_critic_layers: int = 5
@@ -122,21 +100,19 @@ class ModelSettings:
     mask_unused_actions: bool = False
 
     def __post_init__(self):
-        _check_types(self)
-        _require(
+        check_types(self)
+        require(
             self,
             "mask_unused_actions",
             not (self.mask_unused_actions and self.name == "flat-mlp"),
             "needs an entity model (flat-mlp's input does not name the bindings)",
         )
         for name in ("width", "actor_critic_layers", "transformer_layers", "heads"):
-            _within(self, name, 1, 65536)
+            within(self, name, 1, 65536)
         if self.name == "transformer":
-            _require(self, "heads", self.width % self.heads == 0, f"width {self.width} is not divisible by heads")
+            require(self, "heads", self.width % self.heads == 0, f"width {self.width} is not divisible by heads")
             channels = NUM_ATTENTION_CHANNELS
-            _require(
-                self, "heads", self.heads % channels == 0, f"must be a multiple of {channels} (attention channels)"
-            )
+            require(self, "heads", self.heads % channels == 0, f"must be a multiple of {channels} (attention channels)")
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -164,6 +140,8 @@ class PPOSettings:
         normalise_advantages: normalise advantages per minibatch (zero mean, unit std).
     """
 
+    SECTION: ClassVar[str] = "ppo"
+
     num_envs: int = 2048
     num_steps: int = 64
     update_epochs: int = 8
@@ -182,23 +160,21 @@ class PPOSettings:
     normalise_advantages: bool = True
 
     def __post_init__(self):
-        _check_types(self)
+        check_types(self)
         for name in ("num_envs", "num_steps", "update_epochs", "num_minibatches"):
-            _within(self, name, 1, INT32_MAX)
+            within(self, name, 1, INT32_MAX)
         for name in ("gamma", "gae_lambda"):
-            _within(self, name, 0, 1)
+            within(self, name, 0, 1)
         for name, high in (("lr", 1), ("adam_eps", 1), ("clip_eps", 10), ("max_grad_norm", 1e6)):
-            _within(self, name, 0, high, low_excluded=True)
+            within(self, name, 0, high, low_excluded=True)
         for name in ("ent_coef", "vf_coef"):
-            _within(self, name, 0, 1000)
+            within(self, name, 0, 1000)
         if self.ent_coef_end is not None:
-            _within(self, "ent_coef_end", 0, 1000)
+            within(self, "ent_coef_end", 0, 1000)
         batch = f"num_envs * num_steps = {self.num_envs} * {self.num_steps} = {self.batch_size}"
-        _require(
-            self, "num_minibatches", self.batch_size % self.num_minibatches == 0, f"{batch} is not divisible by it"
-        )
-        _require(self, "total_timesteps", self.total_timesteps >= self.batch_size, f"is less than one update ({batch})")
-        _within(self, "total_timesteps", 1, 10**15)
+        require(self, "num_minibatches", self.batch_size % self.num_minibatches == 0, f"{batch} is not divisible by it")
+        require(self, "total_timesteps", self.total_timesteps >= self.batch_size, f"is less than one update ({batch})")
+        within(self, "total_timesteps", 1, 10**15)
 
     @property
     def batch_size(self) -> int:
@@ -250,6 +226,8 @@ class RunSettings:
             The one setting a resumed run may change: `--resume --set run.minutes=...` extends the budget.
     """
 
+    SECTION: ClassVar[str] = "run"
+
     seed: int = 0
     checkpoint_every: int = 100
     eval_every: int = 100
@@ -264,26 +242,26 @@ class RunSettings:
     minutes: float = 0.0
 
     def __post_init__(self):
-        _check_types(self)
-        _within(self, "seed", 0, INT32_MAX)
-        _within(self, "minutes", 0, 10**7)  # 0: no budget
-        _require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
-        _require(self, "fresh_critic", self.init_from or not self.fresh_critic, "needs run.init_from")
-        _within(self, "restart_unsolved_after", 0, INT32_MAX)  # 0: never
+        check_types(self)
+        within(self, "seed", 0, INT32_MAX)
+        within(self, "minutes", 0, 10**7)  # 0: no budget
+        require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
+        require(self, "fresh_critic", self.init_from or not self.fresh_critic, "needs run.init_from")
+        within(self, "restart_unsolved_after", 0, INT32_MAX)  # 0: never
         restarts = bool(self.restart_unsolved_after)
-        _require(self, "restart_unsolved_after", self.init_from or not restarts, "needs run.init_from")
-        _within(self, "policy_temperature", 1e-3, 1e3)
+        require(self, "restart_unsolved_after", self.init_from or not restarts, "needs run.init_from")
+        within(self, "policy_temperature", 1e-3, 1e3)
         if self.policy_temperature != 1.0:
-            _require(self, "policy_temperature", self.init_from, "needs run.init_from")
-            _require(
+            require(self, "policy_temperature", self.init_from, "needs run.init_from")
+            require(
                 self,
                 "policy_temperature",
                 not self.fresh_policy_head,
                 "softens a loaded actor; with run.fresh_policy_head there is none",
             )
-        _within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
-        _within(self, "eval_every", 0, INT32_MAX)  # 0: never
-        _within(self, "eval_attempts", 1, 10**6)
+        within(self, "checkpoint_every", 0, INT32_MAX)  # 0: only at the end
+        within(self, "eval_every", 0, INT32_MAX)  # 0: never
+        within(self, "eval_attempts", 1, 10**6)
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -310,6 +288,8 @@ class LevelSettings:
             `[s, m]` at size m trains one agent on s- and m-like levels at once. Empty: like `env.size`.
     """
 
+    SECTION: ClassVar[str] = "levels"
+
     source: LevelSource = "generated"
     levelset: str | None = None
     files: tuple[str, ...] = ()
@@ -319,28 +299,26 @@ class LevelSettings:
     fresh_like: tuple[str, ...] = ()
 
     def __post_init__(self):
-        _check_types(self)
-        _within(self, "pool_size", 1, 10**8)
+        check_types(self)
+        within(self, "pool_size", 1, 10**8)
         if self.fresh_like:
-            _require(self, "fresh_like", self.source == "fresh", "is only used when levels.source is 'fresh'")
+            require(self, "fresh_like", self.source == "fresh", "is only used when levels.source is 'fresh'")
             unknown = [n for n in self.fresh_like if n not in SIZES]
-            _require(self, "fresh_like", not unknown, f"names no size {unknown}; choose among {', '.join(SIZES)}")
-        _within(self, "pool_chunk", 1, 2**20)
-        _within(self, "refresh_every", 0, 10**9)
+            require(self, "fresh_like", not unknown, f"names no size {unknown}; choose among {', '.join(SIZES)}")
+        within(self, "pool_chunk", 1, 2**20)
+        within(self, "refresh_every", 0, 10**9)
         if self.refresh_every:
-            _require(
-                self, "refresh_every", self.source == "generated", "is only used when levels.source is 'generated'"
-            )
+            require(self, "refresh_every", self.source == "generated", "is only used when levels.source is 'generated'")
         if self.source == "levelset":
-            _require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
+            require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
         else:
-            _require(self, "levelset", self.levelset is None, "is only used when levels.source is 'levelset'")
+            require(self, "levelset", self.levelset is None, "is only used when levels.source is 'levelset'")
         if self.source == "files":
-            _require(
+            require(
                 self, "files", len(self.files) > 0, "must list at least one level file when levels.source is 'files'"
             )
         else:
-            _require(self, "files", not self.files, "is only used when levels.source is 'files'")
+            require(self, "files", not self.files, "is only used when levels.source is 'files'")
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -378,6 +356,8 @@ class CurriculumSettings:
         edits: ACCEL: random edits per mutated level.
     """
 
+    SECTION: ClassVar[str] = "curriculum"
+
     name: CurriculumName = "dr"
     score_levels: int = 12_288
     score_batch: int = 4_096
@@ -394,22 +374,22 @@ class CurriculumSettings:
     edits: int = 5
 
     def __post_init__(self):
-        _check_types(self)
-        _within(self, "score_levels", 1, 2**24)
-        _within(self, "score_batch", 1, 2**24)
-        _within(self, "score_steps", 1, 10**5)
-        _within(self, "score_attempts", 1, 1024)
-        _within(self, "buffer_size", 1, 2**24)
-        _within(self, "refresh_every", 1, INT32_MAX)
-        _within(self, "buffer_share", 0.0, 1.0, low_excluded=True)
-        _require(self, "score_batch", self.score_levels % self.score_batch == 0, "must divide curriculum.score_levels")
-        _within(self, "replay_prob", 0.0, 1.0)
-        _within(self, "staleness", 0.0, 1.0)
-        _within(self, "temperature", 0.0, 100.0, low_excluded=True)
-        _within(self, "min_fill", 0.0, 1.0)
-        _within(self, "edits", 1, 100)
+        check_types(self)
+        within(self, "score_levels", 1, 2**24)
+        within(self, "score_batch", 1, 2**24)
+        within(self, "score_steps", 1, 10**5)
+        within(self, "score_attempts", 1, 1024)
+        within(self, "buffer_size", 1, 2**24)
+        within(self, "refresh_every", 1, INT32_MAX)
+        within(self, "buffer_share", 0.0, 1.0, low_excluded=True)
+        require(self, "score_batch", self.score_levels % self.score_batch == 0, "must divide curriculum.score_levels")
+        within(self, "replay_prob", 0.0, 1.0)
+        within(self, "staleness", 0.0, 1.0)
+        within(self, "temperature", 0.0, 100.0, low_excluded=True)
+        within(self, "min_fill", 0.0, 1.0)
+        within(self, "edits", 1, 100)
         if self.name == "sfl":
-            _require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
+            require(self, "buffer_size", self.buffer_size <= self.score_levels, "must be <= curriculum.score_levels")
 
     @property
     def scoring_steps(self) -> int:
@@ -438,7 +418,7 @@ class ExperimentConfig:
     curriculum: CurriculumSettings = dataclasses.field(default_factory=CurriculumSettings)
 
     def __post_init__(self):
-        _check_types(self)
+        check_types(self)
         if self.curriculum.name == "sfl" and round(self.curriculum.buffer_share * self.ppo.num_envs) == 0:
             raise ConfigError(
                 f"curriculum.buffer_share: {self.curriculum.buffer_share:g} of ppo.num_envs {self.ppo.num_envs} "
@@ -482,294 +462,3 @@ SECTIONS: dict[str, type] = {
     "levels": LevelSettings,
     "curriculum": CurriculumSettings,
 }
-_SECTION_OF = {cls: name for name, cls in SECTIONS.items()}
-
-
-# ----------------------------------------------------------------------------------------------------- loading
-
-
-def load_config(path: str | os.PathLike, overrides: list[str] | tuple[str, ...] = ()) -> ExperimentConfig:
-    """Read an experiment YAML file, apply `--set` overrides ("ppo.lr=3e-4"; the value is parsed as YAML, so
-    numbers, booleans, null and lists work) and return the validated config. Raises `ConfigError`."""
-    source = str(path)
-    raw = _read_yaml(Path(path))
-    if not isinstance(raw, dict):
-        raise ConfigError(f"{source}: expected a mapping of sections ({', '.join(SECTIONS)}), got {_show(raw)}")
-    fmt = raw.pop("format", CONFIG_FORMAT)
-    if fmt != CONFIG_FORMAT:
-        raise ConfigError(f"{source}: format: expected {CONFIG_FORMAT!r}, got {fmt!r}")
-
-    values: dict[str, dict[str, Any]] = {}
-    for section, body in raw.items():
-        if section not in SECTIONS:
-            raise ConfigError(f"{source}: unknown key {_quote(section)}{_suggest(str(section))}")
-        if body is None:
-            body = {}
-        if not isinstance(body, dict):
-            raise ConfigError(f"{source}: {section}: expected a mapping of its fields, got {_show(body)}")
-        values[section] = {}
-        for name, value in body.items():
-            key = f"{section}.{name}"
-            if name not in _hints(SECTIONS[section]):
-                raise ConfigError(f"{source}: unknown key {_quote(key)}{_suggest(key)}")
-            values[section][name] = _coerce_or_raise(value, SECTIONS[section], name, source)
-
-    for text in overrides:
-        key, sep, value_text = text.partition("=")
-        key = key.strip()
-        if not sep:
-            raise ConfigError(f"--set {text}: expected KEY=VALUE, such as ppo.lr=3e-4")
-        section, _, name = key.partition(".")
-        if section not in SECTIONS or name not in _hints(SECTIONS[section]):
-            raise ConfigError(f"--set: unknown key {_quote(key)}{_suggest(key)}")
-        try:
-            value = yaml.load(value_text, Loader=_Loader)
-        except yaml.YAMLError as exc:
-            raise ConfigError(f"--set {key}: the value is not valid YAML ({_one_line(exc)})") from None
-        values.setdefault(section, {})[name] = _coerce_or_raise(value, SECTIONS[section], name, "--set")
-
-    where = source + (f" with --set {' '.join(overrides)}" if overrides else "")
-    sections = {}
-    for section, cls in SECTIONS.items():
-        given = values.get(section, {})
-        for field in dataclasses.fields(cls):
-            if _is_required(field) and field.name not in given:
-                raise ConfigError(f"{where}: missing required key '{section}.{field.name}'")
-        try:
-            sections[section] = cls(**given)
-        except ConfigError as exc:
-            raise ConfigError(f"{where}: {exc}") from None
-    try:
-        return ExperimentConfig(**sections)
-    except ConfigError as exc:
-        raise ConfigError(f"{where}: {exc}") from None
-
-
-def config_to_dict(config: ExperimentConfig) -> dict[str, dict[str, Any]]:
-    """Plain nested dict of every field (tuples as lists), as written by `save_config`."""
-    out = {}
-    for section in SECTIONS:
-        settings = getattr(config, section)
-        out[section] = {
-            f.name: list(v) if isinstance(v := getattr(settings, f.name), tuple) else v
-            for f in dataclasses.fields(settings)
-        }
-    return out
-
-
-def format_config(config: ExperimentConfig) -> str:
-    """The resolved config as YAML text, `format` line first; `load_config` reads it back to an equal config."""
-    body = yaml.safe_dump(config_to_dict(config), sort_keys=False, default_flow_style=False)
-    return f"# Resolved experiment config: every field, defaults included.\nformat: {CONFIG_FORMAT}\n{body}"
-
-
-def save_config(config: ExperimentConfig, path: str | os.PathLike) -> Path:
-    """Write the resolved config atomically to `path` (usually `run_dir / CONFIG_FILENAME`) and return the path."""
-    path = Path(path)
-    atomic_write_text(path, format_config(config))
-    return path
-
-
-# ----------------------------------------------------------------------------------------------------- checking
-
-
-def _check_types(obj) -> None:
-    """Check (and normalise: int -> float, list -> tuple) every field of a settings dataclass in place."""
-    for name, hint in _hints(type(obj)).items():
-        value = getattr(obj, name)
-        if dataclasses.is_dataclass(hint):
-            if not isinstance(value, hint):
-                raise ConfigError(f"{name}: expected {hint.__name__}, got {_show(value)}")
-            continue
-        object.__setattr__(obj, name, _coerce(value, hint, f"{_SECTION_OF.get(type(obj), '?')}.{name}"))
-
-
-def _require(obj, name: str, ok: bool, problem: str) -> None:
-    if not ok:
-        key = f"{_SECTION_OF[type(obj)]}.{name}"
-        raise ConfigError(f"{key}: {problem} (got {getattr(obj, name)!r})")
-
-
-def _within(obj, name: str, low: float, high: float, low_excluded: bool = False) -> None:
-    """Require `low <= value <= high` (`low < value` with `low_excluded`), the range in the message."""
-    value = getattr(obj, name)
-    ok = (low < value if low_excluded else low <= value) and value <= high
-    _require(obj, name, ok, f"must be {'>' if low_excluded else '>='} {_bound(low)} and <= {_bound(high)}")
-
-
-def _bound(value: float) -> str:
-    """A range's end as written: integers in full (2147483647, not 2.14748e+09), other numbers short (3e-4)."""
-    return str(value) if isinstance(value, int) else f"{value:g}"
-
-
-def _coerce(value: Any, hint: Any, key: str) -> Any:
-    """`value` as the field type `hint`, or a ConfigError "key: expected ..., got ..."."""
-    origin = typing.get_origin(hint)
-    if origin in (Union, types.UnionType):  # `X | None`
-        if value is None:
-            return None
-        (inner,) = [a for a in typing.get_args(hint) if a is not type(None)]
-        try:
-            return _coerce(value, inner, key)
-        except ConfigError:
-            raise _type_error(key, hint, value) from None
-    if origin is Literal:
-        if isinstance(value, str) and value in typing.get_args(hint):
-            return value
-        raise _type_error(key, hint, value)
-    if origin is tuple:
-        if not isinstance(value, list | tuple):
-            raise _type_error(key, hint, value)
-        item = typing.get_args(hint)[0]
-        return tuple(_coerce(v, item, f"{key}[{i}]") for i, v in enumerate(value))
-    if not _matches(value, hint):
-        raise _type_error(key, hint, value)
-    if hint is float:
-        return float(value)
-    if hint is int:
-        return int(value)
-    return value
-
-
-def _matches(value: Any, hint: type) -> bool:
-    if hint is bool:
-        return isinstance(value, bool)
-    if hint is int:
-        return (isinstance(value, int) and not isinstance(value, bool)) or (
-            isinstance(value, float) and value.is_integer()
-        )
-    if hint is float:
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            return False
-        try:
-            return math.isfinite(value)
-        except OverflowError:  # an integer beyond any float
-            return False
-    return isinstance(value, hint)
-
-
-def _describe(hint: Any) -> str:
-    origin = typing.get_origin(hint)
-    if origin in (Union, types.UnionType):
-        (inner,) = [a for a in typing.get_args(hint) if a is not type(None)]
-        return f"{_describe(inner)} or null"
-    if origin is Literal:
-        return "one of " + ", ".join(map(repr, typing.get_args(hint)))
-    if origin is tuple:
-        return f"a list of {_describe(typing.get_args(hint)[0]).removeprefix('a ')}s"
-    return {bool: "true or false", int: "an integer", float: "a finite number", str: "a string"}.get(hint, str(hint))
-
-
-def _type_error(key: str, hint: Any, value: Any) -> ConfigError:
-    return ConfigError(f"{key}: expected {_describe(hint)}, got {_show(value)}")
-
-
-def _coerce_or_raise(value: Any, cls: type, name: str, source: str) -> Any:
-    try:
-        return _coerce(value, _hints(cls)[name], f"{_SECTION_OF[cls]}.{name}")
-    except ConfigError as exc:
-        raise ConfigError(f"{source}: {exc}") from None
-
-
-_HINTS: dict[type, dict[str, Any]] = {}
-
-
-def _hints(cls: type) -> dict[str, Any]:
-    """Field name -> resolved type annotation, in declaration order."""
-    if cls not in _HINTS:
-        hints = typing.get_type_hints(cls)
-        _HINTS[cls] = {f.name: hints[f.name] for f in dataclasses.fields(cls)}
-    return _HINTS[cls]
-
-
-def _is_required(field: dataclasses.Field) -> bool:
-    return field.default is dataclasses.MISSING and field.default_factory is dataclasses.MISSING
-
-
-# Names people bring from other PPO code bases -> our field names.
-_ALIASES = {
-    "learning_rate": "lr",
-    "epochs": "update_epochs",
-    "num_epochs": "update_epochs",
-    "lambda": "gae_lambda",
-    "entropy_coef": "ent_coef",
-    "value_coef": "vf_coef",
-    "clip": "clip_eps",
-    "timesteps": "total_timesteps",
-    "grad_norm": "max_grad_norm",
-}
-
-
-def _suggest(key: str) -> str:
-    """ "; did you mean 'ppo.lr'?" for the closest valid dotted key, or a list of the sections."""
-    head, _, leaf = key.rpartition(".")
-    leaf = _ALIASES.get(leaf, leaf)
-    field_keys = [f"{s}.{n}" for s, cls in SECTIONS.items() for n in _hints(cls)]
-    close = [k for k in field_keys if k.rpartition(".")[2] == leaf and k != key]  # right field, wrong section
-    if not close and head in SECTIONS:  # a misspelt field of a real section
-        close = [f"{head}.{m}" for m in difflib.get_close_matches(leaf, _hints(SECTIONS[head]), n=1, cutoff=0.5)]
-    if not close and not head:  # a misspelt section
-        close = difflib.get_close_matches(key, SECTIONS, n=1, cutoff=0.4)
-    if not close:
-        close = difflib.get_close_matches(key, list(SECTIONS) + field_keys, n=1, cutoff=0.6)
-    return f"; did you mean {close[0]!r}?" if close else f"; valid sections: {', '.join(SECTIONS)}"
-
-
-def _show(value: Any) -> str:
-    text = repr(value)
-    if len(text) > 60:
-        text = text[:57] + "..."
-    return f"{text} ({type(value).__name__})"
-
-
-def _quote(key: Any) -> str:
-    return repr(str(key)) if isinstance(key, str) else repr(key)
-
-
-def _one_line(exc: Exception) -> str:
-    return " ".join(str(exc).split())
-
-
-# ----------------------------------------------------------------------------------------------------- YAML
-
-
-class _Loader(yaml.SafeLoader):
-    """SafeLoader with YAML 1.2 scalars: floats without a dot (`5e-5`, `1e6`) are numbers and only true/false are
-    booleans (so `wandb: off` is the string 'off', not false). Duplicate keys are an error."""
-
-    def construct_mapping(self, node, deep=False):
-        seen = set()
-        for key_node, _ in node.value:
-            key = self.construct_object(key_node, deep=deep)
-            if key in seen:
-                raise yaml.constructor.ConstructorError(None, None, f"duplicate key {key!r}", key_node.start_mark)
-            seen.add(key)
-        return super().construct_mapping(node, deep=deep)
-
-
-_Loader.yaml_implicit_resolvers = {
-    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:bool"]
-    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
-}
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF")
-)
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
-    list("-+.0123456789"),
-)
-
-
-def _read_yaml(path: Path) -> Any:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: no such experiment file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path}: cannot read ({_one_line(exc)})") from None
-    try:
-        data = yaml.load(text, Loader=_Loader)
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"{path}: invalid YAML ({_one_line(exc)})") from None
-    return {} if data is None else data
