@@ -191,7 +191,12 @@ class LoadedPolicy:
     @functools.cached_property
     def act(self) -> Policy:
         """The episode runner's policy: sample the network's action distribution at every step."""
-        return sampling_policy(self.network, self.params)
+        return self.acting(self.params)
+
+    def acting(self, params) -> Policy:
+        """`act` with `params` in its own parameters' place (traced inside a jit: one compile serves every
+        parameter set of this network)."""
+        return sampling_policy(self.network, params)
 
     def env_for(self, size: str, origin: str) -> tuple[KinetixEnv, EnvParams]:
         """The environment this policy plays size-`size` levels in: its run's settings (frame skip, episode cap,

@@ -55,7 +55,9 @@ SLOW_REQUEST = 1.0
 """A request that took longer [s] compiled something: the memory XLA's compiler freed is handed back after it."""
 LOCAL_HOSTS = ("localhost", "127.0.0.1", "::1")
 """Names of this machine every studio accepts in a request's `Host` header (besides its bound address)."""
-STATIC = {"studio.js": "text/javascript", "studio.css": "text/css"}
+MODULES = ("studio", "core", "draw", "level", "editing", "forms", "mouse", "play", "files")
+"""The page's ES modules (`static/<name>.js`, served as they are: no build step); `studio.js` imports the rest."""
+STATIC = {f"{name}.js": "text/javascript" for name in MODULES} | {"studio.css": "text/css"}
 """The page's files (package data in kinetix_cli/studio/static/) and their media types."""
 SECURITY_HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' data: blob:; frame-ancestors 'none'",

@@ -24,7 +24,6 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
-from flax import linen as nn
 
 from engine import SIZES, Scene
 from kinetix_cli.constants import ACTION_WIDTH, INT32_MAX
@@ -139,7 +138,7 @@ class Studio:
         key = (policy.source, size)
         if key not in self._agent_envs:
             env, params = policy.env_for(size, "level")
-            self._agent_envs[key] = (env, params, _stepper(env, policy.network))
+            self._agent_envs[key] = (env, params, _stepper(env, policy))
             env, params, step = self._agent_envs[key]  # compile it now, not on the page's first step
             start = env.initial_state(spec.build(env.static))
             jax.block_until_ready(step(start, jax.random.key(0), params, policy.params))
@@ -287,15 +286,15 @@ class Studio:
         return spec
 
 
-def _stepper(env: KinetixEnv, network: nn.Module | None = None):
+def _stepper(env: KinetixEnv, policy: LoadedPolicy | None = None):
     """One jitted environment step: `step(state, choice, env_params, network_params) -> (state, action, reward,
-    done, solved, failed)`. Without a network `choice` is the action; with one it is the key the network's action
-    distribution is sampled with (`network_params` are an argument, not constants baked into the compile)."""
+    done, solved, failed)`. Without a policy `choice` is the action; with one it is the key its sampling policy
+    (`LoadedPolicy.acting`, the one every command plays agents with) draws the action with; `network_params` are
+    an argument, not constants baked into the compile."""
 
     @jax.jit
     def step(state, choice, params, network_params):
-        sampled = network is not None
-        action = network.apply(network_params, env.observe(state))[0].sample(choice) if sampled else choice
+        action = choice if policy is None else policy.acting(network_params)(choice, env.observe(state), state.steps)
         _, state, reward, terminated, truncated, info = env.step_env(state, action, params)
         return state, action, reward, terminated | truncated, info["solved"], info["failed"]
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import asyncio
 import json
 import os
+import re
 import shlex
 import shutil
 
@@ -19,7 +20,7 @@ from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.parse import parse_level
 from kinetix_cli.levels.solution import check_level, decode_solution
 from kinetix_cli.studio import service
-from kinetix_cli.studio.app import MAX_BODY, TOKEN_HEADER, cookie_name, create_app
+from kinetix_cli.studio.app import MAX_BODY, STATIC, TOKEN_HEADER, cookie_name, create_app
 from kinetix_cli.studio.service import MAX_EPISODES, Studio
 from kinetix_cli.studio.workspace import MAX_LEVEL_BYTES
 
@@ -66,6 +67,17 @@ def test_every_request_needs_the_sessions_token(client):
     assert fresh.get("/static/studio.js").status_code == 200  # the page's files, by the cookie the page set
     assert fresh.get("/api/files").status_code == 403  # the API wants the header, which other sites cannot send
     assert "frame-ancestors 'none'" in page.headers["content-security-policy"]
+
+
+def test_the_page_is_es_modules_served_as_they_are(client):
+    page = client.get("/", params={"token": TOKEN})
+    assert '<script type="module" src="/static/studio.js">' in page.text
+    imported = set()
+    for name, media in STATIC.items():
+        answer = client.get(f"/static/{name}")
+        assert answer.status_code == 200 and answer.headers["content-type"].startswith(media), name
+        imported |= set(re.findall(r"^import (?:.* from )?'\./([\w.]+)';$", answer.text, re.M))
+    assert imported == {name for name in STATIC if name.endswith(".js")} - {"studio.js"}  # each served, each used
 
 
 def test_paths_stay_inside_the_folder(client, folder, level):
