@@ -9,11 +9,9 @@ import json
 import sys
 from pathlib import Path
 
-import jax
-
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.evaluate import Evaluator
-from kinetix_cli.rl.train import POLICY_HEAD, _replace_subtrees
+from kinetix_cli.rl.networks import temper
 
 which, attempts, seed = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 temperatures = [float(t) for t in sys.argv[4].split(",")]
@@ -23,8 +21,7 @@ files = sorted(p for size in "sml" for p in Path(root, size).glob("*.json"))
 policy = load_policy(agent)
 evaluator = Evaluator(policy.config, files, attempts)
 for temperature in temperatures:
-    scaled = jax.tree.map(lambda x, t=temperature: x / t, policy.params)
-    results = evaluator(_replace_subtrees(policy.params, scaled, POLICY_HEAD), seed)
+    results = evaluator(temper(policy.params, temperature), seed)
     by_size = {}
     for r in results:
         by_size.setdefault(r.size, []).append(r.solve_rate)

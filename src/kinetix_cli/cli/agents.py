@@ -52,20 +52,23 @@ def _model(config) -> str:
 
 @agents_app.command("export")
 def export(
-    run: Path = typer.Argument(
-        ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update> or an agent folder."
+    run: str = typer.Argument(
+        ..., help="Run directory (latest checkpoint), RUN/checkpoints/<update>, an agent folder or a shipped agent."
     ),
     out: Path = typer.Option(..., "-o", "--out", help="Agent folder to write (new, or an agent folder to replace)."),
     name: str = typer.Option(..., "--name", help="The agent's name, e.g. general-s."),
     version: int = typer.Option(1, "--version", min=1, max=10**6, help="The agent's version."),
     evaluation: Path = typer.Option(None, "--eval", help="A kinetix eval --json file of this run, put on the card."),
     commands: list[str] = typer.Option([], "--command", help="A command that made the run (repeatable, in order)."),
+    temperature: float = typer.Option(1.0, "--temperature", help="Divide the policy's action logits by this."),
 ) -> None:
-    """Write a run's policy (or an agent folder's, e.g. a blend's) as an agent folder: config.yaml, params.msgpack
-    and agent.json (kinetix-agent/1)."""
+    """Write a run's policy (or an agent folder's, e.g. a blend's, or a shipped agent's) as an agent folder:
+    config.yaml, params.msgpack and agent.json (kinetix-agent/1)."""
     from kinetix_cli.rl.agents import export_agent
 
-    card = export_agent(run, out, name=name, version=version, commands=commands, evaluation=evaluation)
+    card = export_agent(
+        run, out, name=name, version=version, commands=commands, evaluation=evaluation, temperature=temperature
+    )
     size = sum((card.folder / f).stat().st_size for f in card.files)
     console.print(f"wrote {out}: agent {card.name} version {card.version} ({size / 1024:,.0f} KiB)")
 

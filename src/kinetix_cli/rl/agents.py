@@ -43,7 +43,7 @@ from kinetix_cli.io import atomic_folder, atomic_write_json, check_output_dir, r
 from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl import checkpoints
 from kinetix_cli.rl.evaluate import read_evaluation
-from kinetix_cli.rl.networks import make_network, params_mismatch, sampling_policy
+from kinetix_cli.rl.networks import make_network, params_mismatch, sampling_policy, temper
 from kinetix_cli.rl.trees import tree_mismatch
 
 SHIPPED = Path(__file__).with_name("shipped")
@@ -231,14 +231,19 @@ def export_agent(
     version: int,
     commands: list[str],
     evaluation: str | os.PathLike | None = None,
+    temperature: float = 1.0,
 ) -> AgentCard:
-    """Write the policy of `run` (a run directory, a checkpoint folder or an agent folder such as a blend) as the
-    agent folder `out`, whole or not at all (written beside it, then renamed into place; an existing agent folder
-    is replaced, anything else there is refused). `evaluation`: a `kinetix eval --json` file of this policy, whose
-    per-suite results go on the card. An agent folder's steps and ingredients carry over to the new card."""
+    """Write the policy of `run` (a run directory, a checkpoint folder, an agent folder such as a blend, or a
+    shipped agent's name) as the agent folder `out`, whole or not at all (written beside it, then renamed into
+    place; an existing agent folder is replaced, anything else there is refused). `evaluation`: a `kinetix eval
+    --json` file of this policy, whose per-suite results go on the card. An agent folder's steps and ingredients
+    carry over to the new card. `temperature`: the policy's action logits divided by it (`networks.temper`),
+    recorded on the card."""
     _check_name(name)
     out = _agent_out(out)
-    run = Path(run)
+    if not (math.isfinite(temperature) and 1e-3 <= temperature <= 1e3):
+        raise UserError(f"--temperature {temperature:g}: expected a number in [0.001, 1000]")
+    run = resolve(run)
     if (run / AGENT_FILE).is_file():
         config, params, update = _read_agent(run)
         made = {k: v for k, v in read_card(run).trained.items() if k in ("steps", "blend")}
@@ -249,6 +254,8 @@ def export_agent(
         config_file = where.parent.parent / CONFIG_FILENAME
     _checked(str(run), config, params, update, where, config_file)
     scores = _evaluation(evaluation, run) if evaluation is not None else {}
+    if temperature != 1.0:
+        params, made = temper(params, temperature), made | {"temperature": temperature}
     trained = {"run": str(run), "update": update, **made, "commands": list(commands), **environment_info()}
     return _write_agent(out, config, params, name=name, version=version, trained=trained, evaluation=scores)
 

@@ -28,6 +28,7 @@ from collections.abc import Callable
 import flax.linen as nn
 import jax
 import jax.numpy as jnp
+from flax import traverse_util
 
 from engine import Scene
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings
@@ -477,6 +478,25 @@ def params_mismatch(config: ExperimentConfig, params) -> str | None:
 def sampling_policy(network: nn.Module, params) -> Policy:
     """The episode-runner policy that samples the network's action distribution at every step."""
     return lambda key, obs, t: network.apply(params, obs)[0].sample(key)
+
+
+POLICY_HEAD = "actor_head"
+"""The parameter scope of every model's policy output layer (`ActorCriticHeads`)."""
+CRITIC = ("critic", "critic_head")
+"""The parameter scopes of every model's critic: its MLP and its output layer (`ActorCriticHeads`)."""
+
+
+def replace_subtrees(params: dict, fresh: dict, name: str) -> dict:
+    """`params` with every subtree called `name` taken from `fresh` (a tree of the same structure)."""
+    flat, fresh_flat = traverse_util.flatten_dict(params), traverse_util.flatten_dict(fresh)
+    return traverse_util.unflatten_dict({path: fresh_flat[path] if name in path else v for path, v in flat.items()})
+
+
+def temper(params: dict, temperature: float) -> dict:
+    """`params` with the policy's output layer divided by `temperature`, so its action logits are too: above 1 the
+    policy is softer (more exploring), below 1 greedier. Other layers are unchanged."""
+    scaled = jax.tree.map(lambda x: (x / temperature).astype(x.dtype), params)
+    return replace_subtrees(params, scaled, POLICY_HEAD)
 
 
 def parameter_count(params) -> int:

@@ -29,7 +29,6 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
-from flax import traverse_util
 
 from kinetix_cli.config import (
     CONFIG_FILENAME,
@@ -65,7 +64,7 @@ from kinetix_cli.rl.checkpoints import (
 )
 from kinetix_cli.rl.curricula import curriculum_class, make_curriculum
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
-from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.networks import CRITIC, POLICY_HEAD, make_network, replace_subtrees, temper
 from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer
 from kinetix_cli.rl.trees import tree_mismatch
@@ -294,26 +293,13 @@ def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings
         raise UserError(f"{origin}: the checkpoint's network does not match this run's model settings ({why})")
     params = jax.tree.map(jnp.asarray, params)
     if run.fresh_policy_head:
-        params = _replace_subtrees(params, runner.params, POLICY_HEAD)
+        params = replace_subtrees(params, runner.params, POLICY_HEAD)
     if run.policy_temperature != 1.0:
-        scaled = jax.tree.map(lambda x: x / run.policy_temperature, params)
-        params = _replace_subtrees(params, scaled, POLICY_HEAD)
+        params = temper(params, run.policy_temperature)
     if run.fresh_critic:
         for name in CRITIC:
-            params = _replace_subtrees(params, runner.params, name)
+            params = replace_subtrees(params, runner.params, name)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
-
-
-POLICY_HEAD = "actor_head"
-"""The parameter scope of every model's policy output layer (`networks.ActorCriticHeads`)."""
-CRITIC = ("critic", "critic_head")
-"""The parameter scopes of every model's critic: its MLP and its output layer (`networks.ActorCriticHeads`)."""
-
-
-def _replace_subtrees(params: dict, fresh: dict, name: str) -> dict:
-    """`params` with every subtree called `name` taken from `fresh` (a tree of the same structure)."""
-    flat, fresh_flat = traverse_util.flatten_dict(params), traverse_util.flatten_dict(fresh)
-    return traverse_util.unflatten_dict({path: fresh_flat[path] if name in path else v for path, v in flat.items()})
 
 
 def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:

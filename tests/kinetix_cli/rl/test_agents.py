@@ -9,6 +9,7 @@ import shutil
 import jax
 import numpy as np
 import pytest
+from flax import traverse_util
 from typer.testing import CliRunner
 
 from helpers.cli import kinetix
@@ -19,6 +20,7 @@ from kinetix_cli.config import load_config
 from kinetix_cli.errors import UserError
 from kinetix_cli.rl import agents
 from kinetix_cli.rl.checkpoints import read_policy
+from kinetix_cli.rl.networks import POLICY_HEAD
 
 
 @pytest.fixture(scope="module")
@@ -141,6 +143,19 @@ def test_export_replaces_an_agent_but_nothing_else(tmp_path, tiny_run):
     wrong.write_text(json.dumps(record))
     with pytest.raises(UserError, match="policy: evaluates 'elsewhere'"):
         agents.export_agent(tiny_run, tmp_path / "c", name="c", version=1, commands=[], evaluation=wrong)
+
+
+def test_an_agent_exported_at_a_temperature_divides_only_its_action_logits(capsys, exported, tmp_path):
+    hot = tmp_path / "hot"
+    made = kinetix(capsys, "agents", "export", exported, "-o", hot, "--name", "hot", "--temperature", "2")
+    assert made.code == 0 and agents.read_card(hot).trained["temperature"] == 2.0
+    flat = lambda folder: traverse_util.flatten_dict(agents.load_policy(folder).params)  # noqa: E731
+    before, after = flat(exported), flat(hot)
+    for path, value in before.items():
+        want = value / 2 if POLICY_HEAD in path else value
+        np.testing.assert_array_equal(after[path], np.asarray(want, np.float32), err_msg=str(path))
+    refused = kinetix(capsys, "agents", "export", exported, "-o", tmp_path / "x", "--name", "x", "--temperature", "0")
+    assert refused.code == 2 and "--temperature 0" in refused.error_line and not (tmp_path / "x").exists()
 
 
 def test_a_run_named_by_a_relative_path_loads(tiny_run, monkeypatch):
