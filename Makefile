@@ -106,6 +106,7 @@ format: $(STAMP)
 docs: $(DOCS_STAMP)
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
+# `make test KINETIX_TEST_CODEGEN=release`: compiled as `kinetix` compiles (tests/conftest.py), to check tolerances.
 test: $(CMP_STAMP) lint reference-levels
 	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --dist loadgroup --durations=15 $(PYTEST_FLAGS)
 

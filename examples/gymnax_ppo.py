@@ -4,10 +4,11 @@
     python examples/gymnax_ppo.py --levels fresh --size s --num-envs 256
 
 The environment comes from `kinetix_cli.gym.make` and is used only through gymnax's API (`reset`, `step`, the
-spaces, `default_params`); nothing else of the toolkit is imported. The policy is an MLP on the flat observation
-with one categorical distribution per multi-discrete action entry. Each update collects `num_steps` steps of
-`num_envs` environments with `jax.lax.scan`, computes GAE advantages and runs a few epochs of clipped PPO on
-minibatches; the whole update is one jitted function.
+spaces, `default_params`) and `refresh_levels`; nothing else of the toolkit is imported. The policy is an MLP on the
+flat observation with one categorical distribution per multi-discrete action entry. Each update collects
+`num_steps` steps of `num_envs` environments with `jax.lax.scan`, computes GAE advantages and runs a few epochs of
+clipped PPO on minibatches; with `--levels fresh` it then draws a new batch of fresh levels once as many episodes
+have started as a batch holds. The whole update is one jitted function.
 """
 
 from __future__ import annotations
@@ -79,8 +80,9 @@ def train(args: argparse.Namespace) -> list[dict]:
     optimiser = optax.chain(optax.clip_by_global_norm(0.5), optax.adam(args.lr, eps=1e-5))
     opt_state = optimiser.init(params)
     obs, state = jax.vmap(env.reset, in_axes=(0, None))(jax.random.split(reset_key, args.num_envs), env_params)
+    started = jnp.int32(args.num_envs)  # episodes started on the current batch of levels
 
-    def rollout_step(carry, key):
+    def rollout_step(carry, key, env_params):
         params, obs, state = carry
         act_key, step_key = jax.random.split(key)
         logits, value = network.apply(params, obs)
@@ -125,10 +127,12 @@ def train(args: argparse.Namespace) -> list[dict]:
         return policy_loss + 0.5 * value_loss - args.ent_coef * entropy(logits).mean()
 
     @jax.jit
-    def update(params, opt_state, obs, state, key):
-        key, rollout_key = jax.random.split(key)
+    def update(params, opt_state, obs, state, env_params, started, key):
+        key, rollout_key, level_key = jax.random.split(key, 3)
         (params, obs, state), batch = jax.lax.scan(
-            rollout_step, (params, obs, state), jax.random.split(rollout_key, args.num_steps)
+            lambda carry, key: rollout_step(carry, key, env_params),
+            (params, obs, state),
+            jax.random.split(rollout_key, args.num_steps),
         )
         _, last_value = network.apply(params, obs)
         advantage, target = advantages(batch, last_value)
@@ -148,15 +152,23 @@ def train(args: argparse.Namespace) -> list[dict]:
             return jax.lax.scan(minibatch_step, (params, opt_state), shuffled)[0], None
 
         (params, opt_state), _ = jax.lax.scan(epoch, (params, opt_state), jax.random.split(key, args.epochs))
+
+        # fresh levels: a new batch once as many episodes have started as it holds (a level pool keeps its levels)
         ended = batch.done.sum()
+        started = started + ended
+        due = started >= env_params.pool_count
+        env_params = jax.lax.cond(due, env.refresh_levels, lambda _, p: p, level_key, env_params)
+        started = jnp.where(due, 0, started)
         stats = {"episodes": ended, "solved": batch.solved.sum(), "reward": batch.reward.sum() / args.num_envs}
-        return params, opt_state, obs, state, stats
+        return params, opt_state, obs, state, env_params, started, stats
 
     history = []
     for i in range(args.updates):
         start = time.perf_counter()
         key, update_key = jax.random.split(key)
-        params, opt_state, obs, state, stats = update(params, opt_state, obs, state, update_key)
+        params, opt_state, obs, state, env_params, started, stats = update(
+            params, opt_state, obs, state, env_params, started, update_key
+        )
         stats = {k: float(v) for k, v in stats.items()}
         stats["solve_rate"] = stats["solved"] / max(stats["episodes"], 1.0)
         stats["seconds"] = time.perf_counter() - start

@@ -28,13 +28,25 @@ how often, is unchanged. Kept between runs of one checkout (`make clean` removes
 # pass order differ, so a long contact-rich episode can round its way to another ending: the runs compared bit for
 # bit are all compiled this way, and recorded level solutions are replayed as `kinetix` compiles
 # (`helpers.processes.release_env`).
+#
+# KINETIX_TEST_CODEGEN=release (`make test KINETIX_TEST_CODEGEN=release`) sets neither FAST_CODEGEN nor
+# FAST_COMPILE: the suite and every process it starts compile as `kinetix` compiles outside the suite (XLA's default
+# CPU code generation and optimisations). Slower; it checks the suite's float tolerances against other last-bit
+# rounding, as another CPU rounds. Unset (or "fast"): the settings above.
+
+CODEGEN = "KINETIX_TEST_CODEGEN"
+"""Environment variable choosing how the suite compiles: "fast" (the default) or "release"."""
 
 
 def pytest_configure(config):
-    os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {FAST_CODEGEN}".strip()
+    codegen = os.environ.get(CODEGEN, "fast") or "fast"
+    if codegen not in ("fast", "release"):
+        raise pytest.UsageError(f'{CODEGEN}={codegen!r}: expected "fast" or "release"')
     os.environ["JAX_COMPILATION_CACHE_DIR"] = str(COMPILE_CACHE)  # started processes inherit it
-    os.environ[FAST_COMPILE] = "1"
-    jax.config.update("jax_disable_most_optimizations", True)
+    if codegen == "fast":
+        os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {FAST_CODEGEN}".strip()
+        os.environ[FAST_COMPILE] = "1"
+        jax.config.update("jax_disable_most_optimizations", True)
     jax.config.update("jax_compilation_cache_dir", str(COMPILE_CACHE))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
 

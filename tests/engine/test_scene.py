@@ -25,7 +25,7 @@ def test_winding_is_normalised_and_centroid_is_the_area_centroid():
     np.testing.assert_allclose(built[0].position[4], (1.0 + 1 / 3, 1.0 + 1 / 3), atol=1e-6)
     v = built[0].vertices[4, :3]
     signed_area = 0.5 * sum(v[i, 0] * v[(i + 1) % 3, 1] - v[(i + 1) % 3, 0] * v[i, 1] for i in range(3))
-    assert signed_area == pytest.approx(0.5, rel=1e-6)  # counter-clockwise
+    assert signed_area == pytest.approx(0.5, abs=1e-6)  # [m^2]; positive: counter-clockwise
 
 
 def test_slots_polygons_then_circles():
@@ -58,7 +58,7 @@ def test_joint_anchors_and_fixed_reference_angle():
     joints = scene.build_numpy(S).joints
     np.testing.assert_allclose(joints.anchor_a[0], (0.5, 0.0), atol=1e-6)
     np.testing.assert_allclose(joints.anchor_b[0], (0.0, -0.5), atol=1e-6)
-    assert joints.ref_angle[0] == pytest.approx(-math.pi / 2)
+    assert joints.ref_angle[0] == pytest.approx(-math.pi / 2, abs=1e-6)  # [rad]
 
 
 def _bad(build):

@@ -1,11 +1,14 @@
 """`kinetix bench gym`: what the gymnax and Gymnasium interfaces cost against `KinetixEnv` itself.
 
-Four ways to step the same environments (one level pool, random actions, auto-reset from the pool):
+Four ways to step the same environments (one level source, random actions, auto-reset from its pool):
 - `KinetixEnv`: `KinetixEnv.step` with a level drawn from the pool, vmapped, `steps` steps per jitted scan;
 - `gymnax`: `KinetixGymnax.step`, vmapped, `steps` steps per jitted scan (what a JAX training loop does);
 - `gymnax-per-step`: one jitted, vmapped `KinetixGymnax.step` per Python call, results left on the device;
-- `gymnasium`: `KinetixVectorEnv.step` per Python call, numpy actions in and numpy results out.
+- `gymnasium`: `KinetixVectorEnv.step` per Python call, numpy actions in and numpy results out (with fresh levels,
+  the batches it draws itself included).
 gymnax against KinetixEnv is the interface's own cost; gymnasium against gymnax-per-step is the host-device copy.
+With fresh levels (`levels="fresh"`) the scans step on the current batch, and a fifth measurement, `refresh_levels`,
+times drawing the next batch (`KinetixGymnax.refresh_levels`): a training loop pays it once per batch.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ class GymBenchConfig:
 
     Attributes:
         levels: the level source (`kinetix_cli.gym.make`'s `levels`).
+        size: the size levels are built at (`make`'s `size`; None: what the levels need, m for fresh levels).
         observation: observation type.
         envs: batch sizes.
         steps: environment steps per timed scan (the first two paths).
@@ -38,6 +42,7 @@ class GymBenchConfig:
     """
 
     levels: str = "s"
+    size: str | None = None
     observation: str = "symbolic-flat"
     envs: tuple[int, ...] = (64, 1024)
     steps: int = 32
@@ -47,6 +52,18 @@ class GymBenchConfig:
 
 @dataclasses.dataclass(frozen=True)
 class GymBenchResult:
+    """One measurement.
+
+    Attributes:
+        path: how the environments were stepped (module docstring), or `refresh_levels`.
+        observation: observation type.
+        envs: environments stepped as one batch; for `refresh_levels`, the levels in a batch.
+        compile_s: seconds of the first call (compiling it); for `refresh_levels`, of `make` (compiling the
+            sampler and drawing the first batch) [s].
+        steps_per_s: median environment steps per second; for `refresh_levels`, levels drawn per second.
+        calls: timed calls.
+    """
+
     path: str
     observation: str
     envs: int
@@ -57,8 +74,13 @@ class GymBenchResult:
 
 def bench_gym(config: GymBenchConfig, report: Callable[[GymBenchResult], None] = lambda r: None):
     """Measure every path at every batch size; calls `report` after each measurement."""
-    env, params = make(config.levels, observation=config.observation)
+    start = time.perf_counter()
+    env, params = make(config.levels, size=config.size, observation=config.observation)
+    make_s = time.perf_counter() - start
     results = []
+    if env.fresh is not None:
+        results.append(_refresh(env, params, config, make_s))
+        report(results[-1])
     for envs in config.envs:
         for result in _at(env, params, envs, config):
             report(result)
@@ -98,13 +120,23 @@ def _at(env, params, envs: int, config: GymBenchConfig):
         return batched(jax.random.split(key, envs), state, jnp.asarray(actions), params)[1]
 
     yield _per_call("gymnax-per-step", config, envs, states, on_device)
-    vector = KinetixVectorEnv(envs, levels=config.levels, observation=config.observation)
+    vector = KinetixVectorEnv(envs, levels=config.levels, size=config.size, observation=config.observation)
     vector.reset(seed=config.seed)
 
     def through_numpy(_, key):
         vector.step(actions)
 
     yield _per_call("gymnasium", config, envs, None, through_numpy)
+
+
+def _refresh(env, params, config: GymBenchConfig, make_s: float) -> GymBenchResult:
+    """Time `refresh_levels`, one batch per call (`make` compiled it)."""
+    levels = int(params.pool_count)
+
+    def call(params, key):
+        return env.refresh_levels(key, params)
+
+    return dataclasses.replace(_per_call("refresh_levels", config, levels, params, call), compile_s=make_s)
 
 
 def _per_call(path: str, config: GymBenchConfig, envs: int, carry, call: Callable) -> GymBenchResult:

@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import gymnasium
 
-from kinetix_cli.gym.environment import FRESH, GymnaxParams, KinetixGymnax, MultiDiscrete, make
+from kinetix_cli.gym.environment import FRESH, FRESH_LEVELS, GymnaxParams, KinetixGymnax, MultiDiscrete, make
 from kinetix_cli.gym.vector import ENV_ID, KinetixGymnasiumEnv, KinetixVectorEnv
 
 __all__ = [
     "ENV_ID",
     "FRESH",
+    "FRESH_LEVELS",
     "GymnaxParams",
     "KinetixGymnasiumEnv",
     "KinetixGymnax",

@@ -2,16 +2,20 @@
 `step(key, state, action, params)`.
 
 `KinetixGymnax` is a `gymnax.environments.environment.Environment` over `KinetixEnv`: its step is `KinetixEnv.step`
-(the same function training uses), with the level an ended episode restarts from drawn from its level source:
+(the same function training uses), and an ended episode restarts from a level drawn uniformly from the pool of
+levels in `params` (`params.pool`). The pool is one of:
 
-- fresh levels: a new level from the generator's distribution of the size at every reset, sampled in the graph;
-- a pool: a suite (`"s"`, `"m"`, `"l"`), level files or folders of them, or a level set made by `kinetix generate`;
-  every reset draws one of them uniformly. The pool rides in `params` (padded to a power of two), so another pool of
-  the same size and bucket runs without compiling again.
+- a loaded pool: a suite (`"s"`, `"m"`, `"l"`), level files or folders of them, or a level set made by
+  `kinetix generate`, padded to a power of two, so another pool of the same size and bucket runs without compiling
+  again;
+- fresh levels: a batch of new levels from the generator's distribution of the size (`FRESH_LEVELS` of them by
+  default). `params = env.refresh_levels(key, params)` (jittable) draws the next batch of the same shape, in batches
+  as `kinetix pretrain` does: a step never samples a level, so it costs what a step on a loaded pool costs.
 
-`step` returns gymnax 1.x's `(obs, state, reward, terminated, truncated, info)`; `info["final_observation"]` is
-the observation before an auto-reset, and `info["solved"]`, `info["failed"]` say how an episode ended. The
-environment object is a frozen dataclass: equal settings are one static argument to `jax.jit`, one compile.
+`step` returns gymnax 1.x's `(obs, state, reward, terminated, truncated, info)`; `info` carries gymnax 1.x's
+`terminated`, `truncated` and `discount` (0.0 where terminated, else 1.0), `final_observation` (the observation
+before an auto-reset), and `solved`, `failed` (how an episode ended). The environment object is a frozen dataclass:
+equal settings are one static argument to `jax.jit`, one compile.
 """
 
 from __future__ import annotations
@@ -41,6 +45,12 @@ from kinetix_cli.levels.levelset import MANIFEST_FILE, load_levelset
 FRESH = "fresh"
 """The level source of newly generated levels."""
 
+FRESH_LEVELS = {"s": 1024, "m": 1024, "l": 256}
+"""Levels in a batch of fresh levels by size (`make`'s default `fresh_levels`). Sampling 1,024 levels took 0.1 s at
+s and 0.2-0.5 s at m on a shared 2-core CPU (`kinetix bench gym`, BENCHMARKS.md); a level at l takes ~7 ms
+(`kinetix_cli.generator.fresh.OVERSAMPLE`), so l draws 256 (~1.8 s). Episodes of random play last ~150 steps, so
+64 environments start ~0.4 episodes a step: 1,024 levels last them ~2,400 steps."""
+
 
 @struct.dataclass
 class GymnaxParams(gymnax_environment.EnvParams):
@@ -49,7 +59,8 @@ class GymnaxParams(gymnax_environment.EnvParams):
     Attributes:
         max_steps_in_episode: episode cap in environment steps (gymnax's name for `EnvParams.max_steps`).
         dense_reward_scale: weight of the green-blue distance shaping; 0 turns it off.
-        pool: the levels resets draw from (leading axis, padded to a power of two), or None for fresh levels.
+        pool: the levels resets draw from (leading axis): a loaded pool padded to a power of two, or a batch of
+            fresh levels (`KinetixGymnax.refresh_levels` draws the next).
         pool_count: how many of `pool`'s rows are real levels (resets draw among the first `pool_count`).
     """
 
@@ -69,7 +80,7 @@ class KinetixGymnax(gymnax_environment.Environment[EnvState, GymnaxParams]):
 
     Attributes:
         env: the Kinetix environment every step runs.
-        fresh: the in-graph level sampler when the source is fresh levels, else None (a pool in `params`).
+        fresh: the level sampler `refresh_levels` draws batches with when the source is fresh levels, else None.
         defaults: the `GymnaxParams` of `default_params` (the pool `make` loaded); not part of equality.
     """
 
@@ -87,23 +98,44 @@ class KinetixGymnax(gymnax_environment.Environment[EnvState, GymnaxParams]):
 
     @property
     def num_actions(self) -> int:
-        """Choices of a discrete action; entries of a multi-discrete or continuous one (6)."""
+        """What gymnax's `num_actions` counts here, by action type:
+
+        - discrete: the choices (11), as `action_space(params).n`: what a categorical policy head needs;
+        - multi-discrete: the entries (6: 4 motors, 2 thrusters), not the choices; entry i has
+          `action_space(params).nvec[i]` choices (3 per motor, 2 per thruster: 324 combinations);
+        - continuous: the entries (6), as `action_space(params).shape[0]`.
+        """
         space = self.env.action_space
-        return space.nvec[0] if space.kind == "discrete" else space.shape[0]
+        return int(space.nvec[0] if space.kind == "discrete" else space.shape[0])
 
     def reset_level(self, key: jax.Array, params: GymnaxParams) -> Level:
-        """The level an episode (re)starts from: a fresh one, or one drawn from the pool."""
-        if self.fresh is not None:
-            return jax.tree.map(lambda x: x[0], self.fresh(key, 1))
+        """The level an episode (re)starts from: one of the pool's first `pool_count` levels, uniformly."""
         if params.pool is None:
-            raise ValueError("these params carry no level pool and the environment has no fresh source")
+            raise ValueError("these params carry no level pool: make them with kinetix_cli.gym.make")
         return index_level(params.pool, jax.random.randint(key, (), 0, params.pool_count))
+
+    def refresh_levels(self, key: jax.Array, params: GymnaxParams) -> GymnaxParams:
+        """`params` with a new batch of fresh levels, drawn with `key`, in place of its pool.
+
+        The batch has the pool's count and shapes, so nothing that takes `params` compiles again; jittable (call it
+        inside your jitted update, or between scans). Call it in batches, as `kinetix pretrain` does: e.g. once as
+        many episodes have started as the pool holds, or each update with a pool of `num_envs` levels. With a
+        loaded pool (no sampler), `params` comes back unchanged.
+        """
+        if self.fresh is None:
+            return params
+        count = level_count(params.pool)
+        return params.replace(pool=_fresh_batch(self.fresh, key, count), pool_count=jnp.int32(count))
 
     def reset_env(self, key: jax.Array, params: GymnaxParams):
         return self.env.reset_to_level(self.reset_level(key, params))
 
     def step(self, key: jax.Array, state: EnvState, action, params: GymnaxParams | None = None):
-        """One step of `KinetixEnv.step`; an ended episode restarts from a level of the source drawn with `key`."""
+        """One step of `KinetixEnv.step`; an ended episode restarts from a pool level drawn with `key`.
+
+        Returns (obs, state, reward, terminated, truncated, info); info: `terminated`, `truncated`, `discount`
+        (() float32, 0 where terminated), `final_observation`, `solved`, `failed`, `distance`, `dropped_contacts`.
+        """
         params = self.default_params if params is None else params
         return _step(self, key, state, action, params)
 
@@ -143,13 +175,17 @@ class KinetixGymnax(gymnax_environment.Environment[EnvState, GymnaxParams]):
         return spaces.Dict({field: _box(leaf) for field, leaf in _fields(shapes)})
 
 
-class MultiDiscrete(spaces.Space):
-    """Independent choices per entry: entry i takes a value in 0..nvec[i] - 1 (gymnax has no such space)."""
+class MultiDiscrete(spaces.Box):
+    """Independent choices per entry: entry i takes a value in 0..nvec[i] - 1.
+
+    gymnax has no such space: this is a gymnax `Box` of int32 from 0 to `nvec - 1` (so gymnax's converters, e.g.
+    `GymnaxToGymWrapper`, take it, as a Gymnasium `Box` of integers) that samples each entry uniformly.
+    """
 
     def __init__(self, nvec: Sequence[int]):
         self.nvec = tuple(int(n) for n in nvec)
-        self.shape = (len(self.nvec),)
-        self.dtype = jnp.int32
+        high = np.asarray(self.nvec, np.int32) - 1
+        super().__init__(np.zeros_like(high), high, (len(self.nvec),), jnp.int32)
 
     def __repr__(self) -> str:
         return f"MultiDiscrete({list(self.nvec)})"
@@ -157,20 +193,24 @@ class MultiDiscrete(spaces.Space):
     def sample(self, key: jax.Array) -> jax.Array:
         return jax.random.randint(key, self.shape, 0, jnp.asarray(self.nvec), jnp.int32)
 
-    def contains(self, x) -> jax.Array:
-        x = jnp.asarray(x)
-        return jnp.all((x >= 0) & (x < jnp.asarray(self.nvec)))
-
 
 @functools.partial(jax.jit, static_argnums=0)
 def _step(env: KinetixGymnax, key, state, action, params):
     level = env.reset_level(key, params)
-    return env.env.step(state, action, params.env_params, level)
+    obs, state, reward, terminated, truncated, info = env.env.step(state, action, params.env_params, level)
+    discount = 1.0 - terminated.astype(jnp.float32)
+    info = info | {"terminated": terminated, "truncated": truncated, "discount": discount}
+    return obs, state, reward, terminated, truncated, info
 
 
 @functools.partial(jax.jit, static_argnums=0)
 def _reset(env: KinetixGymnax, key, params):
     return env.reset_env(key, params)
+
+
+@functools.partial(jax.jit, static_argnums=(0, 2))
+def _fresh_batch(fresh: FreshLevels, key: jax.Array, count: int) -> Level:
+    return fresh(key, count)
 
 
 def make(
@@ -182,13 +222,15 @@ def make(
     frame_skip: int = EnvSettings.frame_skip,
     max_steps: int = EnvSettings.max_steps,
     dense_reward_scale: float = EnvSettings.dense_reward_scale,
+    fresh_levels: int | None = None,
 ) -> tuple[KinetixGymnax, GymnaxParams]:
     """A Kinetix gymnax environment and its default params, in one call.
 
     Args:
-        levels: the level source: `"fresh"` (newly generated levels of `size`), a shipped suite (`"s"`, `"m"`,
-            `"l"`), a level file, a folder of them, a level set (a folder made by `kinetix generate`), or a list
-            of files and folders.
+        levels: the level source: `"fresh"` (batches of newly generated levels of `size`; the first is drawn
+            with `jax.random.key(0)`, `env.refresh_levels` draws the next), a shipped suite (`"s"`, `"m"`, `"l"`),
+            a level file, a folder of them, a level set (a folder made by `kinetix generate`), or a list of files
+            and folders.
         size: the size every level is built at ('s', 'm', 'l'); default: the largest the pool's levels need, or
             'm' for fresh levels. A level too big for it is an error.
         observation: 'symbolic-flat' (one float32 vector; default), 'symbolic-entity' (per-entity rows and
@@ -198,6 +240,7 @@ def make(
         frame_skip: engine steps per environment step (as in an experiment's `env` section).
         max_steps: episode cap [environment steps].
         dense_reward_scale: weight of the green-blue distance shaping; 0 turns it off.
+        fresh_levels: levels in a batch of fresh levels (`levels="fresh"` only); default `FRESH_LEVELS[size]`.
 
     Raises:
         UserError: a bad setting, a missing or invalid level file, a level too big for `size`.
@@ -218,8 +261,15 @@ def make(
     )
     params = GymnaxParams(max_steps_in_episode=max_steps, dense_reward_scale=dense_reward_scale)
     if isinstance(levels, str) and levels == FRESH:
+        count = FRESH_LEVELS[settings.size] if fresh_levels is None else fresh_levels
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise UserError(f"fresh_levels: expected a whole number >= 1, got {fresh_levels!r}")
         env = KinetixEnv(SIZES[settings.size], observation, action, frame_skip)
-        return KinetixGymnax(env, FreshLevels.for_size(env.static, settings.size), params), params
+        fresh = FreshLevels.for_size(env.static, settings.size)
+        params = params.replace(pool=_fresh_batch(fresh, jax.random.key(0), count), pool_count=jnp.int32(count))
+        return KinetixGymnax(env, fresh, params), params
+    if fresh_levels is not None:
+        raise UserError(f"fresh_levels: only for levels='fresh'; {levels!r} is a pool of its own levels")
     pool, size = _pool(levels, size)
     env = KinetixEnv(SIZES[size], observation, action, frame_skip)
     params = params.replace(pool=to_device(_pad(pool)), pool_count=jnp.int32(level_count(pool)))

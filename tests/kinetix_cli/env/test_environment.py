@@ -95,7 +95,8 @@ def test_shaping_rewards_approach(step_fn):
     params = EnvParams(dense_reward_scale=0.1)
     new, reward, _, info = step_fn(state, jnp.array([0, 0, 0, 0, 0, 1]), params)
     expected = -(float(info["distance"]) - float(state.distance)) * 0.1
-    np.testing.assert_allclose(float(reward), expected, rtol=1e-5)
+    # [reward]: 0.1 x the difference of two ~3 m distances, each within a few float32 ulps (2.4e-7 m) of the other's
+    np.testing.assert_allclose(float(reward), expected, rtol=1e-5, atol=1e-7)
     assert float(reward) > 0  # thruster binding 1 pushes green towards blue
 
 
@@ -111,7 +112,7 @@ def test_auto_reset_restarts_from_the_given_level_and_keeps_the_final_observatio
             break
     assert bool(terminated) and not bool(truncated) and float(reward) > 0.5
     assert int(state.steps) == 0
-    np.testing.assert_allclose(state.physics.bodies.position[4:], other.physics.bodies.position[4:])
+    np.testing.assert_allclose(state.physics.bodies.position[4:], other.physics.bodies.position[4:], atol=1e-6)  # [m]
     np.testing.assert_array_equal(obs, jax.jit(ENV.reset_to_level)(other)[0])  # the observation of the new episode
     final_obs, *_ = jax.jit(ENV.step_env)(before, jnp.zeros(6, jnp.int32), EnvParams())
     np.testing.assert_array_equal(info["final_observation"], final_obs)  # and the one before the reset
@@ -141,8 +142,9 @@ def test_a_levels_engine_constants_are_used(step_fn):
         state, *_ = step_fn(state, jnp.zeros(6, jnp.int32), EnvParams())
         drop[name] = 3.0 - float(state.physics.bodies.position[5, 1])
     # symplectic Euler from rest: two engine steps drop the ball by g dt^2 (1 + 2), so doubling dt drops it 4x
-    assert drop["normal"] == pytest.approx(9.81 * 3 / 60**2, rel=1e-3)
-    assert drop["slow"] == pytest.approx(4 * drop["normal"], rel=1e-3)
+    # [m]: 1e-3 of an 8 mm drop; a float32 height of 3 m carries 2.4e-7 m
+    assert drop["normal"] == pytest.approx(9.81 * 3 / 60**2, rel=1e-3, abs=1e-6)
+    assert drop["slow"] == pytest.approx(4 * drop["normal"], rel=1e-3, abs=1e-6)
 
 
 def test_non_finite_state_ends_the_episode(step_fn):
@@ -164,7 +166,7 @@ def test_action_encodings():
     for a, values in expected.items():
         np.testing.assert_array_equal(binding_values("discrete", jnp.int32(a)), values)
     cont = binding_values("continuous", jnp.array([2.0, -0.5, 0.0, 0.0, -1.0, 0.7]))
-    np.testing.assert_allclose(cont, [1.0, -0.5, 0, 0, 0.0, 0.7])
+    np.testing.assert_allclose(cont, [1.0, -0.5, 0, 0, 0.0, 0.7], atol=1e-7)  # [binding value, -1..1]
     bindings = Bindings(jnp.array([3, 0]), jnp.array([False, True]), jnp.array([1, 0]))
     np.testing.assert_array_equal(
         engine_actions(bindings, jnp.array([0.5, -1, 0, 0.25, 0, 1.0])), [0.25, 1.0, 1.0, 0.0]
@@ -190,4 +192,4 @@ def test_vmapped_pool_reset_and_step():
     assert obs.shape == (8, 140) and reward.shape == (8,) and info["solved"].shape == (8,)
     assert terminated.shape == truncated.shape == (8,) and info["final_observation"].shape == (8, 140)
     state = ENV.initial_state(index_level(pool, 0))
-    np.testing.assert_allclose(state.physics.bodies.position[5], [1.0, 1.2])
+    np.testing.assert_allclose(state.physics.bodies.position[5], [1.0, 1.2], atol=1e-6)  # [m]

@@ -117,8 +117,8 @@ def test_entity_masks(chain):
     assert obs.thruster_mask.tolist() == [True, False]
     assert obs.thruster_body[0] == 7
     assert not obs.polygons[1:4].any() and not obs.polygons[5].any()  # walls, ceiling, empty slot are zero
-    np.testing.assert_allclose(obs.polygons[[0, 4], 26], [1.0, 0.5])  # collision mode / 2: floor 2, box 1
-    np.testing.assert_allclose(obs.circles[:, 18], 0.5)
+    np.testing.assert_allclose(obs.polygons[[0, 4], 26], [1.0, 0.5], atol=1e-7)  # collision mode / 2: floor 2, box 1
+    np.testing.assert_allclose(obs.circles[:, 18], 0.5, atol=1e-7)
     np.testing.assert_allclose(obs.gravity, (0.0, -0.981), atol=1e-6)
 
 
@@ -178,8 +178,8 @@ def test_reversed_joint_rows_mirror(chain):
     # limits (columns 11, 12) on angle_dst - angle_src: [-0.5, 1.0] forwards, [-1.0, 0.5] reversed
     np.testing.assert_allclose(fwd[0, 11:13], (-0.5, 1.0), atol=1e-6)
     np.testing.assert_allclose(rev[0, 11:13], (-1.0, 0.5), atol=1e-6)
-    np.testing.assert_allclose(rev[:, 13:15], fwd[:, 15:17])  # anchors swap
-    np.testing.assert_allclose(rev[:, 15:17], fwd[:, 13:15])
+    np.testing.assert_allclose(rev[:, 13:15], fwd[:, 15:17], atol=1e-6)  # [m]; anchors swap
+    np.testing.assert_allclose(rev[:, 15:17], fwd[:, 13:15], atol=1e-6)  # [m]
     np.testing.assert_allclose(rev[:, 19], -fwd[:, 19], atol=1e-6)  # relative angle
     assert fwd[:, 21].tolist() == [0, 0] and rev[:, 21].tolist() == [1, 1]
     np.testing.assert_array_equal(rev[:, :11], fwd[:, :11])  # flags, binding, speed, power, has_limits
@@ -224,6 +224,10 @@ def batch():
     return np.asarray(images), entities, levels
 
 
+PIXEL = 1e-6
+"""Absolute tolerance of a pixel value [0-1]: a few float32 ulps at 1, far below one colour level (1/255)."""
+
+
 def rgb(colour) -> np.ndarray:
     return np.asarray(colour, np.float32) / 255.0
 
@@ -232,29 +236,30 @@ def test_pixels_shape_range_and_background(batch):
     images, _, _ = batch
     assert images.shape == (2, 125, 125, 3) and images.dtype == np.float32
     assert images.min() >= 0.0 and images.max() <= 1.0
-    np.testing.assert_allclose(images[0][px(4.5, 4.5)], rgb(pixels.BACKGROUND))
-    np.testing.assert_allclose(images[0][px(0.5, 0.6)], rgb(pixels.BACKGROUND))  # just above the floor
+    np.testing.assert_allclose(images[0][px(4.5, 4.5)], rgb(pixels.BACKGROUND), atol=PIXEL)
+    np.testing.assert_allclose(images[0][px(0.5, 0.6)], rgb(pixels.BACKGROUND), atol=PIXEL)  # just above the floor
 
 
 def test_pixels_shapes_and_markers(batch):
     image = batch[0][0]
-    np.testing.assert_allclose(image[px(2.5, 2.5)], rgb((0, 204, 0)))  # green ball's centre
-    np.testing.assert_allclose(image[px(2.5, 2.75)], rgb((0, 204, 0)))
-    np.testing.assert_allclose(image[px(2.5, 2.85)], rgb(pixels.BACKGROUND))  # just outside it
-    np.testing.assert_allclose(image[px(3.5, 2.7)], rgb((255, 102, 102)))  # red ball
-    np.testing.assert_allclose(image[px(1.0, 3.0)], rgb((80, 80, 80)))  # fixed neutral box
-    np.testing.assert_allclose(image[px(1.25, 3.25)], rgb((80, 80, 80)))
-    np.testing.assert_allclose(image[px(1.35, 3.0)], rgb(pixels.BACKGROUND))
-    np.testing.assert_allclose(image[px(3.0, 2.5)], rgb(pixels.MOTOR_COLOURS[2]))  # joint dot
-    np.testing.assert_allclose(image[px(3.5, 2.5)], rgb(pixels.THRUSTER_COLOURS[1]))  # thruster dot on top
+    np.testing.assert_allclose(image[px(2.5, 2.5)], rgb((0, 204, 0)), atol=PIXEL)  # green ball's centre
+    np.testing.assert_allclose(image[px(2.5, 2.75)], rgb((0, 204, 0)), atol=PIXEL)
+    np.testing.assert_allclose(image[px(2.5, 2.85)], rgb(pixels.BACKGROUND), atol=PIXEL)  # just outside it
+    np.testing.assert_allclose(image[px(3.5, 2.7)], rgb((255, 102, 102)), atol=PIXEL)  # red ball
+    np.testing.assert_allclose(image[px(1.0, 3.0)], rgb((80, 80, 80)), atol=PIXEL)  # fixed neutral box
+    np.testing.assert_allclose(image[px(1.25, 3.25)], rgb((80, 80, 80)), atol=PIXEL)
+    np.testing.assert_allclose(image[px(1.35, 3.0)], rgb(pixels.BACKGROUND), atol=PIXEL)
+    np.testing.assert_allclose(image[px(3.0, 2.5)], rgb(pixels.MOTOR_COLOURS[2]), atol=PIXEL)  # joint dot
+    np.testing.assert_allclose(image[px(3.5, 2.5)], rgb(pixels.THRUSTER_COLOURS[1]), atol=PIXEL)  # thruster dot on top
 
 
 def test_pixels_floor(batch):
     images = batch[0]
     row = px(0.0, 0.39)[0]
-    np.testing.assert_allclose(images[0][row:], np.broadcast_to(rgb((80, 80, 80)), images[0][row:].shape))
-    np.testing.assert_allclose(images[1][px(2.0, 0.2)], rgb((0, 102, 204)) * 0.5)  # fixed blue floor
-    np.testing.assert_allclose(images[0][px(2.0, 0.42)], rgb(pixels.BACKGROUND))
+    floor = np.broadcast_to(rgb((80, 80, 80)), images[0][row:].shape)
+    np.testing.assert_allclose(images[0][row:], floor, atol=PIXEL)
+    np.testing.assert_allclose(images[1][px(2.0, 0.2)], rgb((0, 102, 204)) * 0.5, atol=PIXEL)  # fixed blue floor
+    np.testing.assert_allclose(images[0][px(2.0, 0.42)], rgb(pixels.BACKGROUND), atol=PIXEL)
 
 
 def test_batched_entity_matches_single_scene(batch):

@@ -115,8 +115,9 @@ def test_refuses_what_the_format_cannot_hold():
     physics.bodies.angle[static.num_polygons] = 0.5
     bindings = Bindings(np.zeros(1, np.int32), np.zeros(1, bool), np.zeros(1, np.int32))
     turned = export_level(make_level(physics, bindings), static, name="turned", description="")
-    assert turned["bodies"][0]["angle_deg"] == pytest.approx(np.degrees(0.5))
-    assert parse_level(turned).build(static).physics.bodies.angle[static.num_polygons] == pytest.approx(0.5)
+    assert turned["bodies"][0]["angle_deg"] == pytest.approx(np.degrees(0.5), abs=1e-5)  # [deg]; float32 ulp 3e-6
+    built = parse_level(turned).build(static).physics.bodies
+    assert built.angle[static.num_polygons] == pytest.approx(0.5, abs=1e-6)  # [rad]
     with pytest.raises(ValueError, match="slots"):
         export_level(make_level(physics, bindings), SIZES["m"], name="wrong size", description="")
 

@@ -42,7 +42,7 @@ def test_builds_bodies_bindings_and_materials():
     assert b.role[4] == 1 and b.role[6] == 2 and bool(b.fixed[6])
     assert int(level.bindings.motor[0]) == 2 and not bool(level.bindings.motor_auto[0])
     assert int(level.bindings.thruster[0]) == 1
-    np.testing.assert_allclose(level.physics.joints.motor_speed[0], 0.5)
+    np.testing.assert_allclose(level.physics.joints.motor_speed[0], 0.5, atol=1e-6)  # [rad/s]
     np.testing.assert_allclose(level.physics.thrusters.angle[0], np.pi / 2, atol=1e-6)
 
 

@@ -119,7 +119,7 @@ def test_bodies_joints_and_thrusters_carry_over():
     ref_joint = state["joint"][0]
     assert (int(joints.body_a[0]), int(joints.body_b[0])) == (ref_joint["a_index"], ref_joint["b_index"])
     assert bool(joints.motor_on[0]) and int(level.bindings.motor[0]) == ref_joint["motor_binding"]
-    assert math.isclose(float(joints.motor_speed[0]), ref_joint["motor_speed"], rel_tol=1e-6)
+    assert math.isclose(float(joints.motor_speed[0]), ref_joint["motor_speed"], rel_tol=1e-6, abs_tol=1e-6)  # [rad/s]
     np.testing.assert_allclose(level.physics.gravity, [0.0, -9.81], atol=1e-6)
     area, _ = polygon_area_centroid(np.asarray(bodies.vertices[4]), np)
     assert area > 0

@@ -143,7 +143,8 @@ def test_a_thruster_pushes_a_box_without_gravity():
     mass = 1.0 * 0.4 * 0.2  # density x area
     a = 0.05 * 10.0 / mass  # 6.25 m/s^2: 3.1 m in 1 s, short of the right wall
     t = (np.arange(STEPS) + 1) / 60
-    np.testing.assert_allclose(ours["position"][-1, BODY, 0] - 0.5, a * t[-1] ** 2 / 2, rtol=0.03)
+    # [m]: 3% of the 3.1 m, which holds symplectic Euler's lead a t dt / 2 (5 cm) over the parabola
+    np.testing.assert_allclose(ours["position"][-1, BODY, 0] - 0.5, a * t[-1] ** 2 / 2, atol=0.1)
 
 
 def _motor_scene(rotor: str, power: float):

@@ -46,11 +46,12 @@ def tiny(model: str, action_type: str = "multi-discrete", observation: str | Non
 # --- distributions ---------------------------------------------------------------------------------------
 def test_categorical_by_hand():
     uniform = Categorical(jnp.zeros(3))
-    np.testing.assert_allclose(uniform.entropy(), math.log(3), rtol=1e-6)
-    np.testing.assert_allclose(uniform.log_prob(jnp.int32(2)), -math.log(3), rtol=1e-6)
+    np.testing.assert_allclose(uniform.entropy(), math.log(3), rtol=1e-6, atol=1e-6)  # [nats]
+    np.testing.assert_allclose(uniform.log_prob(jnp.int32(2)), -math.log(3), rtol=1e-6, atol=1e-6)  # [nats]
     skewed = Categorical(jnp.log(jnp.array([0.5, 0.25, 0.25])))
-    np.testing.assert_allclose(skewed.entropy(), 1.5 * math.log(2), rtol=1e-6)
-    np.testing.assert_allclose(skewed.log_prob(jnp.array([0, 1])), [math.log(0.5), math.log(0.25)], rtol=1e-6)
+    np.testing.assert_allclose(skewed.entropy(), 1.5 * math.log(2), rtol=1e-6, atol=1e-6)  # [nats]
+    expected = [math.log(0.5), math.log(0.25)]
+    np.testing.assert_allclose(skewed.log_prob(jnp.array([0, 1])), expected, rtol=1e-6, atol=1e-6)  # [nats]
     assert skewed.mode() == 0 and skewed.mode().dtype == jnp.int32
     samples = jax.vmap(skewed.sample)(jax.random.split(jax.random.key(0), 4000))
     np.testing.assert_allclose(np.bincount(np.asarray(samples), minlength=3) / 4000, [0.5, 0.25, 0.25], atol=0.03)
@@ -59,9 +60,10 @@ def test_categorical_by_hand():
 def test_multi_categorical_masks_padding():
     dist = MultiCategorical.from_flat(jnp.zeros((2, 18)), NVEC)
     assert dist.logits.shape == (2, 6, 3)
-    np.testing.assert_allclose(dist.entropy(), [4 * math.log(3) + 2 * math.log(2)] * 2, rtol=1e-6)
+    np.testing.assert_allclose(dist.entropy(), [4 * math.log(3) + 2 * math.log(2)] * 2, rtol=1e-6, atol=1e-6)  # [nats]
     action = jnp.array([[0, 1, 2, 0, 1, 0], [2, 2, 2, 2, 1, 1]], jnp.int32)
-    np.testing.assert_allclose(dist.log_prob(action), [-(4 * math.log(3) + 2 * math.log(2))] * 2, rtol=1e-6)
+    expected = [-(4 * math.log(3) + 2 * math.log(2))] * 2
+    np.testing.assert_allclose(dist.log_prob(action), expected, rtol=1e-6, atol=1e-6)  # [nats]
     samples = jax.vmap(dist.sample)(jax.random.split(jax.random.key(0), 500))
     assert samples.shape == (500, 2, 6) and samples.dtype == jnp.int32
     assert np.all(np.asarray(samples) < np.asarray(NVEC))
@@ -80,11 +82,13 @@ def test_diag_gaussian_by_hand():
     dist = DiagGaussian(jnp.array([0.0, 1.0]), jnp.log(jnp.array([1.0, 2.0])))
     half_log_2pi = 0.5 * math.log(2 * math.pi)
     expected = (-0.5 * 0.5**2 - half_log_2pi) + (-0.5 * 0.25**2 - math.log(2) - half_log_2pi)
-    np.testing.assert_allclose(dist.log_prob(jnp.array([0.5, 1.5])), expected, rtol=1e-6)
-    np.testing.assert_allclose(dist.entropy(), math.log(2 * math.pi * math.e) + math.log(2), rtol=1e-6)
+    np.testing.assert_allclose(dist.log_prob(jnp.array([0.5, 1.5])), expected, rtol=1e-6, atol=1e-6)  # [nats]
+    entropy = math.log(2 * math.pi * math.e) + math.log(2)
+    np.testing.assert_allclose(dist.entropy(), entropy, rtol=1e-6, atol=1e-6)  # [nats]
     np.testing.assert_array_equal(dist.mode(), [0.0, 1.0])
     samples = jax.vmap(dist.sample)(jax.random.split(jax.random.key(0), 4000))
-    np.testing.assert_allclose(samples.std(0), [1.0, 2.0], rtol=0.05)
+    # [action]: a sample std's error is relative (sigma / sqrt(2n) = 1.1% here) and neither std is near 0
+    np.testing.assert_allclose(samples.std(0), [1.0, 2.0], rtol=0.05, atol=0.0)
 
 
 def test_unused_bindings_are_masked_in_every_action_type():
@@ -96,15 +100,15 @@ def test_unused_bindings_are_masked_in_every_action_type():
     action = jnp.array([2, 0, 0, 0, 0, 1], jnp.int32)
     masked, plain = action_distribution("multi-discrete", head, used=used), action_distribution("multi-discrete", head)
     moved = action_distribution("multi-discrete", other, used=used)
-    np.testing.assert_allclose(masked.log_prob(action), moved.log_prob(action), rtol=1e-6)
-    np.testing.assert_allclose(masked.entropy(), moved.entropy(), rtol=1e-6)
-    kept = jnp.array([0, 5])
-    np.testing.assert_allclose(masked.entropy(), MultiCategorical(plain.logits[kept]).entropy(), rtol=1e-6)
+    np.testing.assert_allclose(masked.log_prob(action), moved.log_prob(action), rtol=1e-6, atol=1e-6)  # [nats]
+    np.testing.assert_allclose(masked.entropy(), moved.entropy(), rtol=1e-6, atol=1e-6)  # [nats]
+    kept = MultiCategorical(plain.logits[jnp.array([0, 5])])
+    np.testing.assert_allclose(masked.entropy(), kept.entropy(), rtol=1e-6, atol=1e-6)  # [nats]
     samples = jax.vmap(masked.sample)(jax.random.split(jax.random.key(1), 200))
     assert not np.asarray(samples[:, 1:5]).any() and np.asarray(samples[:, 0]).any()
 
     discrete = action_distribution("discrete", jnp.zeros(11), used=used)  # no-op, motor 0 both ways, thruster 1
-    np.testing.assert_allclose(discrete.entropy(), math.log(4), rtol=1e-6)
+    np.testing.assert_allclose(discrete.entropy(), math.log(4), rtol=1e-6, atol=1e-6)  # [nats]
     assert set(np.asarray(jax.vmap(discrete.sample)(jax.random.split(jax.random.key(2), 400))).tolist()) == {
         0,
         1,
@@ -114,10 +118,11 @@ def test_unused_bindings_are_masked_in_every_action_type():
 
     gaussian = action_distribution("continuous", jnp.zeros(6), jnp.zeros(6), used=used)
     full = action_distribution("continuous", jnp.zeros(6), jnp.zeros(6))
-    np.testing.assert_allclose(gaussian.entropy(), full.entropy() / 3, rtol=1e-6)
+    np.testing.assert_allclose(gaussian.entropy(), full.entropy() / 3, rtol=1e-6, atol=1e-6)  # [nats]
     half_log_2pi = 0.5 * math.log(2 * math.pi)  # each zero-mean, unit entry at 0 has log-density -half_log_2pi
     expected = full.log_prob(jnp.array([0.5, 0, 0, 0, 0, 0.0])) + 4 * half_log_2pi
-    np.testing.assert_allclose(gaussian.log_prob(jnp.array([0.5, 9, 9, 9, 9, 0.0])), expected, rtol=1e-6)
+    log_prob = gaussian.log_prob(jnp.array([0.5, 9, 9, 9, 9, 0.0]))
+    np.testing.assert_allclose(log_prob, expected, rtol=1e-6, atol=1e-6)  # [nats]
 
 
 def test_masking_needs_an_entity_model():

@@ -38,20 +38,20 @@ def test_gae_stops_at_a_termination():
     # t=1: delta = 0 + 0.5 * 0.1 - 0.2 = -0.15, A = -0.15 + 0.25 * 1.9 = 0.325;
     # t=0: delta = 1 + 0.5 * 0.2 - 0.5 = 0.6, A = 0.6 + 0.25 * 0.325 = 0.68125.
     advantages, targets = gae(_transitions([0, 0, 1], [0, 0, 1]), 0.5, 0.5)
-    np.testing.assert_allclose(advantages[:, 0], [0.68125, 0.325, 1.9], rtol=1e-6)
-    np.testing.assert_allclose(targets[:, 0], [1.18125, 0.525, 2.0], rtol=1e-6)
+    np.testing.assert_allclose(advantages[:, 0], [0.68125, 0.325, 1.9], rtol=1e-6, atol=1e-6)  # [return]
+    np.testing.assert_allclose(targets[:, 0], [1.18125, 0.525, 2.0], rtol=1e-6, atol=1e-6)  # [return]
 
 
 def test_gae_bootstraps_a_truncated_episode():
     # t=2 truncated: delta = 2 + 0.5 * 0.3 - 0.1 = 2.05 (bootstrapped); the trace still stops there.
     advantages, _ = gae(_transitions([0, 0, 0], [0, 0, 1]), 0.5, 0.5)
-    np.testing.assert_allclose(advantages[:, 0], [0.690625, 0.3625, 2.05], rtol=1e-6)
+    np.testing.assert_allclose(advantages[:, 0], [0.690625, 0.3625, 2.05], rtol=1e-6, atol=1e-6)  # [return]
 
 
 def test_gae_does_not_leak_across_episodes():
     # An episode ends at t=1 (done); A_1 must not see A_2.
     advantages, _ = gae(_transitions([0, 1, 0], [0, 1, 0]), 0.5, 0.5)
-    assert advantages[1, 0] == pytest.approx(0.0 - 0.2)
+    assert advantages[1, 0] == pytest.approx(0.0 - 0.2, abs=1e-6)  # [return]
 
 
 class _FixedDist:
@@ -93,10 +93,10 @@ def test_clipped_losses_by_hand():
     advantages, targets = jnp.array([1.0, -1.0]), jnp.array([1.5, 1.5])
     total, parts = ppo_loss(apply_fn, None, batch, advantages, targets, hp, entropy_weight(hp, jnp.asarray(0)))
     # policy: -mean(min(1.6 * 1, 1.2 * 1), min(0.4 * -1, 0.8 * -1)) = -mean(1.2, -0.8) = -0.2
-    assert float(parts["policy_loss"]) == pytest.approx(-0.2, rel=1e-5)
+    assert float(parts["policy_loss"]) == pytest.approx(-0.2, rel=1e-5, abs=1e-6)  # [return]: ratio x advantage
     # value: clipped values 1.2 and 0.8; losses max((2-1.5)^2, (1.2-1.5)^2) = 0.25, max(1, 0.49) = 1 -> 0.5 * 0.625
-    assert float(parts["value_loss"]) == pytest.approx(0.3125, rel=1e-5)
-    assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5)
+    assert float(parts["value_loss"]) == pytest.approx(0.3125, rel=1e-5, abs=1e-6)  # [return^2]
+    assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5, abs=1e-6)  # [loss]
 
 
 def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():
@@ -104,7 +104,7 @@ def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():
     assert entropy_weight(constant, jnp.asarray(7)) == 0.05
     decaying = dataclasses.replace(constant, ent_coef_end=0.01)
     weights = [float(entropy_weight(decaying, jnp.asarray(u))) for u in (0, 5, 10, 12)]
-    assert weights == pytest.approx([0.05, 0.03, 0.01, 0.01])
+    assert weights == pytest.approx([0.05, 0.03, 0.01, 0.01], abs=1e-8)  # [loss weight]: float32 ulp of 0.05 is 4e-9
 
 
 def test_the_first_reset_happens_at_update_0_only():
