@@ -33,9 +33,9 @@ from gymnax.environments import environment as gymnax_environment
 from gymnax.environments import spaces
 
 from engine import SIZES
-from kinetix_cli.config import EnvSettings
-from kinetix_cli.constants import ACTION_TYPES, OBSERVATION_TYPES
+from kinetix_cli.config import ConfigError, EnvSettings
 from kinetix_cli.env.environment import EnvParams, EnvState, KinetixEnv
+from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level, index_level, level_count, stack_levels, to_device
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.fresh import FreshLevels
@@ -245,52 +245,58 @@ def make(
     Raises:
         UserError: a bad setting, a missing or invalid level file, a level too big for `size`.
     """
-    if observation not in OBSERVATION_TYPES:
-        raise UserError(f"observation: {observation!r} is not one of {', '.join(OBSERVATION_TYPES)}")
-    if action not in ACTION_TYPES:
-        raise UserError(f"action: {action!r} is not one of {', '.join(ACTION_TYPES)}")
-    if size is not None and size not in SIZES:
-        raise UserError(f"size: {size!r} is not one of {', '.join(SIZES)}")
-    settings = EnvSettings(
-        size=size or "m",
-        observation=observation,
-        action=action,
-        frame_skip=frame_skip,
-        max_steps=max_steps,
-        dense_reward_scale=dense_reward_scale,
-    )
-    params = GymnaxParams(max_steps_in_episode=max_steps, dense_reward_scale=dense_reward_scale)
+    try:  # the experiment config's checks and messages: one way from settings to an environment (`make_env`)
+        settings = EnvSettings(
+            size=size or "m",
+            observation=observation,
+            action=action,
+            frame_skip=frame_skip,
+            max_steps=max_steps,
+            dense_reward_scale=dense_reward_scale,
+        )
+    except ConfigError as exc:
+        raise UserError(str(exc).removeprefix("env.")) from None
     if isinstance(levels, str) and levels == FRESH:
         count = FRESH_LEVELS[settings.size] if fresh_levels is None else fresh_levels
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise UserError(f"fresh_levels: expected a whole number >= 1, got {fresh_levels!r}")
-        env = KinetixEnv(SIZES[settings.size], observation, action, frame_skip)
+        env, params = _make(settings)
         fresh = FreshLevels.for_size(env.static, settings.size)
         params = params.replace(pool=_fresh_batch(fresh, jax.random.key(0), count), pool_count=jnp.int32(count))
         return KinetixGymnax(env, fresh, params), params
     if fresh_levels is not None:
         raise UserError(f"fresh_levels: only for levels='fresh'; {levels!r} is a pool of its own levels")
-    pool, size = _pool(levels, size)
-    env = KinetixEnv(SIZES[size], observation, action, frame_skip)
+    pool, settings = _pool(levels, settings, size is not None)
+    env, params = _make(settings)
     params = params.replace(pool=to_device(_pad(pool)), pool_count=jnp.int32(level_count(pool)))
     return KinetixGymnax(env, None, params), params
 
 
-def _pool(levels, size: str | None) -> tuple[Level, str]:
-    """The levels of a pool source as one batch, and the size they are built at."""
+def _make(settings: EnvSettings) -> tuple[KinetixEnv, GymnaxParams]:
+    """`make_env`'s environment for `settings`, and its parameters as gymnax's params (no levels yet)."""
+    env, env_params = make_env(settings)
+    return env, GymnaxParams(
+        max_steps_in_episode=env_params.max_steps, dense_reward_scale=env_params.dense_reward_scale
+    )
+
+
+def _pool(levels, settings: EnvSettings, size_given: bool) -> tuple[Level, EnvSettings]:
+    """The levels of a pool source as one batch, and the settings at the size they are built at (with no size
+    given: the largest the levels need)."""
     sources = [levels] if isinstance(levels, str | Path) else list(levels)
     if not sources:
         raise UserError("levels: an empty list; name a suite, level files or folders, or 'fresh'")
     if len(sources) == 1 and (Path(sources[0]) / MANIFEST_FILE).is_file():
         levelset = load_levelset(sources[0])
         made = levelset.manifest["size"]
-        if size is not None and size != made:
-            raise UserError(f"{sources[0]}: a level set of size {made}; size={size!r} asks for another")
-        return levelset.levels, made
+        if size_given and settings.size != made:
+            raise UserError(f"{sources[0]}: a level set of size {made}; size={settings.size!r} asks for another")
+        return levelset.levels, dataclasses.replace(settings, size=made)
     specs = [load_level(path) for path in level_paths(sources)]
-    needed = max((spec.default_size() for spec in specs), key=list(SIZES).index)
-    size = size or needed
-    return stack_levels([spec.build(SIZES[size]) for spec in specs]), size
+    if not size_given:
+        needed = max((spec.default_size() for spec in specs), key=list(SIZES).index)
+        settings = dataclasses.replace(settings, size=needed)
+    return stack_levels([spec.build(SIZES[settings.size]) for spec in specs]), settings
 
 
 def _pad(pool: Level) -> Level:

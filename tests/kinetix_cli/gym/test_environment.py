@@ -16,11 +16,11 @@ from gymnax.wrappers.gym import GymnaxToGymWrapper
 from gymnax.wrappers.purerl import LogWrapper, StickyActionWrapper
 
 from helpers.paths import REPO
+from helpers.traces import traces
 from kinetix_cli.env.level import index_level, level_count
 from kinetix_cli.errors import LevelError, UserError
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.gym import KinetixGymnax, make
-from kinetix_cli.gym.environment import _fresh_batch, _step
 
 STEPS = 40
 CLOSE = {"rtol": 1e-5, "atol": 1e-6}
@@ -78,9 +78,9 @@ def test_another_pool_of_the_same_size_and_bucket_does_not_compile_again(suite_s
     state = env.reset(jax.random.key(1), params)[1]
     action = jnp.zeros(6, jnp.int32)
     env.step(jax.random.key(2), state, action, params)
-    compiled = _step._cache_size()
-    _, state, *_ = env.step(jax.random.key(3), state, action, other)
-    assert _step._cache_size() == compiled
+    with traces() as traced:
+        _, state, *_ = env.step(jax.random.key(3), state, action, other)
+    assert traced[0] == 0
 
 
 def test_info_carries_gymnax_terminated_truncated_and_discount(suite_s):
@@ -110,14 +110,15 @@ def test_fresh_levels_ride_in_params_and_a_new_batch_compiles_nothing(fresh_s):
     _, state = env.reset(jax.random.key(0), params)
     action = jnp.zeros(6, jnp.int32)
     env.step(jax.random.key(1), state, action, params)
-    compiled = (_step._cache_size(), _fresh_batch._cache_size())
-    refreshed = env.refresh_levels(jax.random.key(2), params)
-    assert not _same(refreshed.pool, params.pool) and int(refreshed.pool_count) == 4
-    env.step(jax.random.key(1), state, action, refreshed)
-    traced = jax.eval_shape(env.refresh_levels, jax.random.key(2), params)  # jittable: it traces
-    shapes = [jax.tree.map(lambda x: (x.shape, x.dtype), (p.pool, p.pool_count)) for p in (traced, params)]
+    env.refresh_levels(jax.random.key(5), params)  # the sampler's batch, compiled once
+    with traces() as traced:
+        refreshed = env.refresh_levels(jax.random.key(2), params)
+        assert not _same(refreshed.pool, params.pool) and int(refreshed.pool_count) == 4
+        env.step(jax.random.key(1), state, action, refreshed)
+    assert traced[0] == 0
+    shaped = jax.eval_shape(env.refresh_levels, jax.random.key(2), params)  # jittable: it traces
+    shapes = [jax.tree.map(lambda x: (x.shape, x.dtype), (p.pool, p.pool_count)) for p in (shaped, params)]
     assert shapes[0] == shapes[1]
-    assert (_step._cache_size(), _fresh_batch._cache_size()) == compiled
     suite_env, suite = make("s")
     assert suite_env.refresh_levels(jax.random.key(3), suite) is suite  # a loaded pool has no sampler
 
@@ -165,9 +166,10 @@ def _same(a, b) -> bool:
 
 def test_bad_settings_are_one_clear_error(tmp_path):
     for kwargs, message in [
-        ({"observation": "rgb"}, "observation: 'rgb' is not one of"),
-        ({"action": "joystick"}, "action: 'joystick' is not one of"),
-        ({"size": "xl"}, "size: 'xl' is not one of"),
+        ({"observation": "rgb"}, "^observation: expected one of .*got 'rgb'"),  # an experiment config's words
+        ({"action": "joystick"}, "^action: expected one of .*got 'joystick'"),
+        ({"size": "xl"}, "^size: expected one of .*got 'xl'"),
+        ({"frame_skip": 0}, "^frame_skip: must be >= 1"),
         ({"levels": []}, "levels: an empty list"),
         ({"levels": "no/such/folder"}, "no/such/folder: no such file or folder"),
         ({"levels": "l", "size": "s"}, "but the size holds"),
