@@ -1,7 +1,7 @@
-"""MkDocs hook of the documentation site: the repository's README, BENCHMARKS.md and levels/README.md become
-pages (index.md, benchmarks.md, levels.md), with their links rewritten for the site: a guide in docs/ by its page,
-those three by theirs, and a repository file the site does not carry (source, scripts, the experiments' raw
-evidence that mkdocs.yml's exclude_docs keeps out) as its path in code type."""
+"""MkDocs hook of the documentation site: the repository's README, BENCHMARKS.md, CHANGELOG.md and levels/README.md
+become pages (index.md, benchmarks.md, changelog.md, levels.md), with their links rewritten for the site: a guide in
+docs/ by its page, those four by theirs, and a repository file the site does not carry (source, scripts, the
+experiments' raw evidence that mkdocs.yml's exclude_docs keeps out) as its path in code type."""
 
 from __future__ import annotations
 
@@ -12,7 +12,12 @@ from pathlib import Path
 from mkdocs.structure.files import File, Files
 
 ROOT = Path(__file__).resolve().parent.parent
-PAGES = {"README.md": "index.md", "BENCHMARKS.md": "benchmarks.md", "levels/README.md": "levels.md"}
+PAGES = {
+    "README.md": "index.md",
+    "BENCHMARKS.md": "benchmarks.md",
+    "CHANGELOG.md": "changelog.md",
+    "levels/README.md": "levels.md",
+}
 LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)\s]+)\)")
 
 
