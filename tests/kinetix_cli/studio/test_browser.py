@@ -54,90 +54,95 @@ def browser():
         browser.close()
 
 
-def test_build_play_solve_and_save_a_level_in_chromium(studio_url, capsys, tmp_path):
+def open_studio(browser, url: str, width: int, height: int):
+    """The studio's page at a window size, once its first level is checked: (page, its message line, the page's
+    uncaught errors as they come)."""
+    sync_api = pytest.importorskip("playwright.sync_api")
+    page = browser.new_page(viewport={"width": width, "height": height})
+    errors = []
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.goto(url)
+    message = page.locator("#message")
+    sync_api.expect(message).to_contain_text("valid level of size s")
+    return page, message, errors
+
+
+def test_build_play_solve_and_save_a_level_in_chromium(studio_url, browser, capsys, tmp_path):
     sync_api = pytest.importorskip("playwright.sync_api")
     url, folder = studio_url
-    with sync_api.sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1500, "height": 950})
-        errors = []
-        page.on("pageerror", lambda exc: errors.append(str(exc)))
-        page.goto(url)
-        message = page.locator("#message")
-        sync_api.expect(message).to_contain_text("valid level of size s")
-        canvas = page.locator("#canvas").bounding_box()
-        scale = canvas["width"] / VIEW_WIDTH  # page pixels per metre
+    page, message, errors = open_studio(browser, url, 1500, 950)
+    canvas = page.locator("#canvas").bounding_box()
+    scale = canvas["width"] / VIEW_WIDTH  # page pixels per metre
 
-        def at(x: float, y: float) -> tuple[float, float]:  # a world point [m] on the page
-            return canvas["x"] + (x + 0.1) * scale, canvas["y"] + (5.1 - y) * scale
+    def at(x: float, y: float) -> tuple[float, float]:  # a world point [m] on the page
+        return canvas["x"] + (x + 0.1) * scale, canvas["y"] + (5.1 - y) * scale
 
-        def click(x: float, y: float) -> None:
-            page.mouse.click(*at(x, y))
+    def click(x: float, y: float) -> None:
+        page.mouse.click(*at(x, y))
 
-        def drag(start: tuple[float, float], end: tuple[float, float]) -> None:
-            page.mouse.move(*at(*start))
-            page.mouse.down()
-            page.mouse.move(*at(*end), steps=8)
-            page.mouse.up()
+    def drag(start: tuple[float, float], end: tuple[float, float]) -> None:
+        page.mouse.move(*at(*start))
+        page.mouse.down()
+        page.mouse.move(*at(*end), steps=8)
+        page.mouse.up()
 
-        def settle() -> None:
-            sync_api.expect(message).to_contain_text("valid level")
+    def settle() -> None:
+        sync_api.expect(message).to_contain_text("valid level")
 
-        # a green ball at (1, 2.5) in place of the new level's default ball at (2.5, 2.5)
-        tool = lambda name: page.locator(f"#tools [data-tool={name}]").click()  # noqa: E731
-        tool("circle")
-        click(1.0, 2.5)
-        settle()
-        page.locator("#selection-form select").first.select_option("green")  # role: the first choice of a body
-        settle()
-        tool("select")
-        click(2.5, 2.5)
-        page.keyboard.press("Delete")
-        settle()
-        # a fixed blue target at (4, 2.5), no gravity
-        tool("box")
-        click(4.0, 2.5)
-        settle()
-        page.locator("#selection-form select").first.select_option("blue")
-        settle()
-        page.locator("#selection-form input[type=checkbox]").first.check()  # fixed
-        settle()
-        # turned a quarter turn by its rotate handle (0.3 m above its top), then scaled up by its corner handle
-        tool("select")
-        drag((4.0, 2.75 + 0.3), (3.45, 2.5))
-        settle()
-        drag((4.25 + 0.12, 2.25 - 0.12), (4.48, 2.02))
-        settle()
-        gravity_y = page.locator("#level-form input[type=number]").nth(1)
-        gravity_y.fill("0")
-        gravity_y.dispatch_event("change")
-        settle()
-        # a thruster on the ball pushing right (binding T0)
-        tool("thruster")
-        click(1.0, 2.5)
-        settle()
-        sync_api.expect(page.locator("#selection-form")).to_contain_text("direction_deg")  # the thruster's form
-        direction = page.locator("#selection-form input[type=number]").nth(2)  # anchor x, anchor y, direction
-        direction.fill("0")
-        direction.dispatch_event("change")
-        settle()
-        sync_api.expect(page.locator("#selection-form input[type=number]").nth(2)).to_have_value("0")
-        shot = page.locator("#canvas").screenshot()
+    # a green ball at (1, 2.5) in place of the new level's default ball at (2.5, 2.5)
+    tool = lambda name: page.locator(f"#tools [data-tool={name}]").click()  # noqa: E731
+    tool("circle")
+    click(1.0, 2.5)
+    settle()
+    page.locator("#selection-form select").first.select_option("green")  # role: the first choice of a body
+    settle()
+    tool("select")
+    click(2.5, 2.5)
+    page.keyboard.press("Delete")
+    settle()
+    # a fixed blue target at (4, 2.5), no gravity
+    tool("box")
+    click(4.0, 2.5)
+    settle()
+    page.locator("#selection-form select").first.select_option("blue")
+    settle()
+    page.locator("#selection-form input[type=checkbox]").first.check()  # fixed
+    settle()
+    # turned a quarter turn by its rotate handle (0.3 m above its top), then scaled up by its corner handle
+    tool("select")
+    drag((4.0, 2.75 + 0.3), (3.45, 2.5))
+    settle()
+    drag((4.25 + 0.12, 2.25 - 0.12), (4.48, 2.02))
+    settle()
+    gravity_y = page.locator("#level-form input[type=number]").nth(1)
+    gravity_y.fill("0")
+    gravity_y.dispatch_event("change")
+    settle()
+    # a thruster on the ball pushing right (binding T0)
+    tool("thruster")
+    click(1.0, 2.5)
+    settle()
+    sync_api.expect(page.locator("#selection-form")).to_contain_text("direction_deg")  # the thruster's form
+    direction = page.locator("#selection-form input[type=number]").nth(2)  # anchor x, anchor y, direction
+    direction.fill("0")
+    direction.dispatch_event("change")
+    settle()
+    sync_api.expect(page.locator("#selection-form input[type=number]").nth(2)).to_have_value("0")
+    shot = page.locator("#canvas").screenshot()
 
-        # play: hold J (thruster T0) until the ball reaches the target
-        page.locator("#modes button[data-mode=play]").click()
-        page.keyboard.down("j")
-        sync_api.expect(page.locator("#play-readout")).to_contain_text("solved", timeout=30_000)
-        page.keyboard.up("j")
-        page.locator("#play-keep").click()
-        sync_api.expect(message).to_contain_text("is now the level's solution")
-        page.wait_for_timeout(300)  # the level's check answers meanwhile: the message stays
-        sync_api.expect(message).to_contain_text("is now the level's solution")
-        page.once("dialog", lambda dialog: dialog.accept("built.json"))
-        page.locator("#modes button[data-mode=edit]").click()
-        page.locator("#save-as").click()
-        sync_api.expect(message).to_contain_text("saved built.json")
-        browser.close()
+    # play: hold J (thruster T0) until the ball reaches the target
+    page.locator("#modes button[data-mode=play]").click()
+    page.keyboard.down("j")
+    sync_api.expect(page.locator("#play-readout")).to_contain_text("solved", timeout=30_000)
+    page.keyboard.up("j")
+    page.locator("#play-keep").click()
+    sync_api.expect(message).to_contain_text("is now the level's solution")
+    page.wait_for_timeout(300)  # the level's check answers meanwhile: the message stays
+    sync_api.expect(message).to_contain_text("is now the level's solution")
+    page.once("dialog", lambda dialog: dialog.accept("built.json"))
+    page.locator("#modes button[data-mode=edit]").click()
+    page.locator("#save-as").click()
+    sync_api.expect(message).to_contain_text("saved built.json")
     assert not errors
 
     pixels = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB")).astype(int)
@@ -161,12 +166,7 @@ def test_files_that_cannot_be_shown_long_messages_and_duplicate_names_at_1280_px
     (folder / "no-bodies.json").write_text(json.dumps(json.loads(level) | {"bodies": []}))
     long_name = "a-file-name-without-any-space-" * 6 + ".json"
     (folder / long_name).write_text("{not json")
-    page = browser.new_page(viewport={"width": 1280, "height": 800})
-    errors = []
-    page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.goto(url)
-    message = page.locator("#message")
-    sync_api.expect(message).to_contain_text("valid level of size s")
+    page, message, errors = open_studio(browser, url, 1280, 800)
 
     def open_file(name: str) -> None:
         page.locator(f'#file-list li[data-path="{name}"]').click()
@@ -208,12 +208,7 @@ def test_a_slow_random_shows_progress_and_its_late_answer_keeps_a_level_opened_m
     sync_api = pytest.importorskip("playwright.sync_api")
     url, folder = studio_url
     (folder / "opened.json").write_text((REPO / "levels" / "s" / "rocket-car-jump.json").read_text())
-    page = browser.new_page(viewport={"width": 1280, "height": 800})
-    errors = []
-    page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.goto(url)
-    message = page.locator("#message")
-    sync_api.expect(message).to_contain_text("valid level of size s")
+    page, message, errors = open_studio(browser, url, 1280, 800)
     page.locator("#random").click()
     sync_api.expect(message).to_contain_text("compiling the generator for size s", timeout=2500)
     page.locator('#file-list li[data-path="opened.json"]').click()
