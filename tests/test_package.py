@@ -86,11 +86,12 @@ def _check_installed(python: Path, work: Path, *, compiles: bool) -> None:
         "from kinetix_cli.levels.files import level_paths\n"
         "from kinetix_cli.gym import make\n"
         "env, params = make('m')\n"
-        "print(kinetix_cli.__file__, len(level_paths(['s'])), env.name, int(params.pool_count))\n"
+        "print(kinetix_cli.__file__, len(level_paths(['s'])), env.name, int(params.pool_count),"
+        " len(level_paths(['validation'])))\n"
     )
-    where, suite_s, name, count = _run(python, ["-c", probe], work).split()
+    where, suite_s, name, count, validation = _run(python, ["-c", probe], work).split()
     assert str(python.parent.parent) in where and str(REPO) not in where
-    assert (int(suite_s), name, int(count)) == (10, "Kinetix-m", 20)
+    assert (int(suite_s), name, int(count), int(validation)) == (10, "Kinetix-m", 20, 180)
     assert "general-s" in _run(python, ["agents"], work)
     if not compiles:
         return

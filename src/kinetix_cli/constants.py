@@ -44,8 +44,14 @@ contact); the transformer drives `heads / NUM_ATTENTION_CHANNELS` heads with eac
 # --- numbers ------------------------------------------------------------------------------------------------
 INT32_MAX = 2**31 - 1
 """Largest value of the integer settings JAX keeps as int32 (seeds, episode caps, counts)."""
+VALIDATION_SEED = 2**31 - 1024
+"""Generator seeds from here up to `INT32_MAX` are the validation suite's (`levels.suites`): no training run and no
+`kinetix generate` draws them (`run.seed` and `--seed` stop below, a generated pool's later rounds skip them), so its
+held-out levels are never trained on."""
 
 # --- file formats --------------------------------------------------------------------------------------------
+VALIDATION_FORMAT = "kinetix-validation/1"
+"""A `kinetix validation run` result: zero-shot on the validation suite and fine-tuning on two of our levels."""
 LEVEL_FORMAT = "kinetix-level/1"
 """Hand-made level files (JSON, `docs/level-format.md`)."""
 LEVELSET_FORMAT = "kinetix-levelset/1"

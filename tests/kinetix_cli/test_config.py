@@ -183,6 +183,7 @@ def test_later_overrides_win_and_can_supply_a_required_key(tmp_path):
         ("env.size=xl", "--set: env.size: expected one of 's', 'm', 'l', got 'xl' (str)"),
         ("ppo.lr=[1", "--set ppo.lr: the value is not valid YAML"),
         ("format=x", "--set: unknown key 'format'"),
+        ("run.seed=2147482624", "run.seed: must be >= 0 and <= 2147482623"),  # the validation suite's seeds
     ],
 )
 def test_bad_overrides_name_set_and_the_key(tmp_path, override, expected):

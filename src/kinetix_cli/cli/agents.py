@@ -20,11 +20,11 @@ def agents(
     ctx: typer.Context,
     as_json: bool = typer.Option(False, "--json", help="Print the agents' cards as JSON instead of a table."),
 ) -> None:
-    """List the shipped agents (every version kept; `NAME@VERSION` loads an older one): name and version, model,
-    training steps and zero-shot solve rate per suite."""
+    """List the shipped agents (NAME is the version chosen on validation; `NAME@VERSION` loads any other): name and
+    version, model, training steps, zero-shot solve rate per suite, and what chose it (validation, test, rule)."""
     if ctx.invoked_subcommand is not None:
         return
-    from kinetix_cli.rl.agents import shipped_agents
+    from kinetix_cli.rl.agents import default_agent, shipped_agents
 
     agents = shipped_agents()
     if as_json:
@@ -33,15 +33,34 @@ def agents(
     if not agents:
         console.print("no shipped agents are installed")
         return
+    default = default_agent()
     for card, config in agents:
         evaluation = card.evaluation
         attempts = f", {evaluation['attempts']} attempts per level" if "attempts" in evaluation else ""
         steps = card.trained.get("steps", 0)
-        say((f"{card.name} v{card.version}", "bold"), f": {_model(config)}, {steps:,} env steps; zero-shot{attempts}")
+        mark = " (the default: make demo fine-tunes it)" if card.folder.name == default else ""
+        say(
+            (f"{card.name} v{card.version}", "bold"),
+            f"{mark}: {_model(config)}, {steps:,} env steps; zero-shot{attempts}",
+        )
         table = Table("suite", "levels", "solve rate")
         for suite, row in evaluation.get("suites", {}).items():
             table.add_row(suite, str(row["levels"]), f"{row['solve_rate']:.1%}")
         console.print(table if table.rows else "  not evaluated")
+        console.print(f"  {_chosen(card)}", soft_wrap=True)
+
+
+def _chosen(card) -> str:
+    """One line on what chose the agent: its validation scores, its test scores per seed, and the rule."""
+    if not card.validation:
+        return "validation: none recorded (chosen before the protocol, or not a shipped choice)"
+    score = card.validation["score"]
+    tuned = "" if score.get("finetune") is None else f", fine-tuned {score['finetune']:.1%}"
+    line = f"validation: held out {score['heldout']:.1%}, our levels {score['ours']:.1%}{tuned}"
+    tests = [
+        f"{suites['all']['solve_rate']:.1%} (seed {seed})" for seed, suites in card.test.get("by_seed", {}).items()
+    ]
+    return f"{line}; test (the paper's 74): {', '.join(tests) or 'none'}; rule: {card.rule}"
 
 
 def _model(config) -> str:
@@ -91,3 +110,22 @@ def blend(
     card = blend_agents(sources, out, name=name, version=version, commands=commands, weights=weights)
     parts = ", ".join(f"{b['source']} x{b['weight']:.3g}" for b in card.trained["blend"])
     console.print(f"wrote {out}: agent {card.name} version {card.version}, the average of {parts}")
+
+
+@agents_app.command("record")
+def record(
+    folder: Path = typer.Argument(..., help="The agent folder whose card gets the record."),
+    validation: Path = typer.Option(..., "--validation", help="Its kinetix validation run --json record."),
+    test: list[Path] = typer.Option(..., "--test", help="A kinetix eval --json file on --levels test (per seed)."),
+    rule: str = typer.Option(..., "--rule", help="The rule, written before the runs, that chose this agent."),
+) -> None:
+    """Record on an agent's card what chose it (its validation scores and the rule) and its test scores, read after
+    the choice; the agent's files are untouched."""
+    from kinetix_cli.rl.agents import record_choice
+    from kinetix_cli.rl.evaluate import read_evaluation
+    from kinetix_cli.tools.validation import read_validation
+
+    card = record_choice(
+        folder, validation=read_validation(validation), test=[read_evaluation(t) for t in test], rule=rule
+    )
+    console.print(f"{card.folder}: {_chosen(card)}", soft_wrap=True)

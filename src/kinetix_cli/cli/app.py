@@ -15,6 +15,7 @@ from kinetix_cli.cli import figures, generate, levels, studio, train
 from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
 from kinetix_cli.cli.console import console, say, show_warning
+from kinetix_cli.cli.validation import validation_app
 from kinetix_cli.errors import UserError
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help="kinetix: open-ended 2D physics RL in JAX.")
@@ -26,6 +27,7 @@ app.add_typer(studio.commands)
 app.add_typer(levels.levels_app, name="levels")
 app.add_typer(bench_app, name="bench")
 app.add_typer(agents_app, name="agents")
+app.add_typer(validation_app, name="validation")
 
 
 @app.command()

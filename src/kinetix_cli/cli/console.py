@@ -29,16 +29,16 @@ MAX_BATCH = 2**24
 """Largest batch a comma-separated --envs list may ask for."""
 
 
-def int_list(flag: str, text: str) -> tuple[int, ...]:
-    """'1,64,1024' -> (1, 64, 1024); anything else is a `UserError` naming the flag."""
+def int_list(flag: str, text: str, low: int = 1, high: int = MAX_BATCH) -> tuple[int, ...]:
+    """'1,64,1024' -> (1, 64, 1024), each in `low..high`; anything else is a `UserError` naming the flag."""
     try:
         values = tuple(int(x) for x in text.split(",") if x.strip())
     except ValueError:
         raise UserError(f"{flag}: expected comma-separated integers, got {text!r}") from None
-    if not values or any(v < 1 for v in values):
-        raise UserError(f"{flag}: expected positive integers, got {text!r}")
-    if max(values) > MAX_BATCH:
-        raise UserError(f"{flag}: at most {MAX_BATCH:,} each, got {max(values):,}")
+    if not values or any(v < low for v in values):
+        raise UserError(f"{flag}: expected integers >= {low}, got {text!r}")
+    if max(values) > high:
+        raise UserError(f"{flag}: at most {high:,} each, got {max(values):,}")
     return values
 
 

@@ -8,7 +8,7 @@ import typer
 
 from kinetix_cli.cli.console import console
 from kinetix_cli.cli.processes import COORDINATOR, DEVICES, NUM_PROCESSES, PROCESS_ID, joined
-from kinetix_cli.constants import INT32_MAX
+from kinetix_cli.constants import VALIDATION_SEED
 from kinetix_cli.io import check_output_dir
 
 commands = typer.Typer()
@@ -18,7 +18,12 @@ commands = typer.Typer()
 def generate(
     size: str = typer.Option("s", help="Level size: s, m or l."),
     count: int = typer.Option(..., min=1, max=10**8, help="Distinct levels to keep."),
-    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed; the same command gives byte-identical files."),
+    seed: int = typer.Option(
+        0,
+        min=0,
+        max=VALIDATION_SEED - 1,
+        help="Seed; the same command gives byte-identical files (the seeds above are the validation suite's).",
+    ),
     out: Path = typer.Option(..., "--out", help="Level-set folder (created; an unfinished one is resumed)."),
     filters: str = typer.Option("noop,random", "--filter", help="Drop levels solved by: noop, random, both or none."),
     random_attempts: int = typer.Option(3, min=1, max=100, help="Random-policy episodes per level (random filter)."),

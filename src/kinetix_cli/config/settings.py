@@ -19,6 +19,7 @@ from kinetix_cli.constants import (
     MODEL_OBSERVATIONS,
     NUM_ATTENTION_CHANNELS,
     OBSERVATION_TYPES,
+    VALIDATION_SEED,
 )
 
 CONFIG_FORMAT = EXPERIMENT_FORMAT
@@ -243,7 +244,7 @@ class RunSettings:
 
     def __post_init__(self):
         check_types(self)
-        within(self, "seed", 0, INT32_MAX)
+        within(self, "seed", 0, VALIDATION_SEED - 1)  # the seeds above are the validation suite's
         within(self, "minutes", 0, 10**7)  # 0: no budget
         require(self, "fresh_policy_head", self.init_from or not self.fresh_policy_head, "needs run.init_from")
         require(self, "fresh_critic", self.init_from or not self.fresh_critic, "needs run.init_from")

@@ -25,10 +25,10 @@ class ConversionWarning(UserWarning):
 
 def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
     """Level files named by `paths`, with folders expanded into their *.json files (sorted, recursively); a name
-    of a shipped suite ('s', 'm', 'l') that is not a path here means that suite. A missing path or a folder without
-    level files is a `UserError`."""
+    of a shipped suite ('s', 'm', 'l') or of the protocol ('validation', 'test') that is not a path here means that
+    suite (`levels.suites`). A missing path or a folder without level files is a `UserError`."""
     files: list[Path] = []
-    for path in map(resolve_suite, paths):
+    for path in (folder for named in paths for folder in resolve_suite(named)):
         if path.is_dir():
             found = sorted(path.rglob("*.json"))
             for folder in sorted({f.parent for f in found}):
@@ -43,7 +43,7 @@ def level_paths(paths: list[str | Path] | tuple[str | Path, ...]) -> list[Path]:
         elif path.exists():
             files.append(path)
         else:
-            raise UserError(f"{path}: no such file or folder (the shipped suites are named s, m and l)")
+            raise UserError(f"{path}: no such file or folder (the named suites are s, m, l, validation and test)")
     return files
 
 

@@ -1,8 +1,16 @@
-"""The hand-made level suites that ship with the package, addressable by name from any folder.
+"""The level suites addressable by name from any folder: the hand-made suites that ship with the package, and the
+two suites of the evaluation protocol.
 
-`levels/s`, `levels/m` and `levels/l` of a checkout install as the data package `kinetix_levels` (the source tree
-links `src/kinetix_levels` to `levels/`), so `kinetix eval general-s --levels s` finds them wherever it runs. A path
-that exists always wins over a suite of the same name.
+- `s`, `m`, `l`: `levels/s`, `levels/m` and `levels/l` of a checkout, installed as the data package `kinetix_levels`
+  (the source tree links `src/kinetix_levels` to `levels/`), so `kinetix eval general-s --levels s` finds them
+  wherever it runs.
+- `validation`: every choice (recipe, seed, checkpoint, blend, what ships) is made on it: held-out generated levels of
+  every size (`levels/validation/{s,m,l}`, generated from seeds no training run draws, `constants.VALIDATION_SEED`;
+  `kinetix validation build` rebuilds them) and the hand-made `s`, `m` and `l`.
+- `test`: the paper's 74 hand-made levels (`.cache/reference-levels/{s,m,l}` under the current folder, as `make
+  reference-levels` writes them), evaluated once per shipped agent after the choice, never read to make it.
+
+A path that exists always wins over a suite of the same name.
 """
 
 from __future__ import annotations
@@ -10,8 +18,16 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
+from kinetix_cli.errors import UserError
+
 SUITES = ("s", "m", "l")
-"""The shipped suites, by the size their levels are made for."""
+"""The shipped hand-made suites, by the size their levels are made for."""
+HELDOUT = "validation"
+"""The folder under the shipped suites' root holding the held-out generated levels (`validation/<size>/`)."""
+REFERENCE_LEVELS = Path(".cache") / "reference-levels"
+"""Where `make reference-levels` unzips the paper's 74 levels (relative to the checkout)."""
+NAMED = ("validation", "test")
+"""The protocol's suites: each names several folders."""
 
 
 def suites_root() -> Path:
@@ -36,9 +52,35 @@ def suite_folder(name: str) -> Path:
     return suites_root() / name
 
 
-def resolve_suite(path: str | Path) -> Path:
-    """`path` itself, or the shipped suite it names when no such file or folder exists."""
+def heldout_folder(size: str) -> Path:
+    """The folder of the validation suite's held-out generated levels of `size`."""
+    return suites_root() / HELDOUT / size
+
+
+def named_suite(name: str) -> list[Path]:
+    """The folders of the protocol's suite `name` (one of `NAMED`); a `UserError` saying how to get them when they
+    are missing."""
+    if name == "validation":
+        folders = [heldout_folder(size) for size in SUITES] + [suite_folder(size) for size in SUITES]
+        how = "kinetix validation build writes the held-out levels"
+    elif name == "test":
+        folders = [REFERENCE_LEVELS / size for size in SUITES]
+        how = "make reference-levels unzips the paper's 74 levels (run it in the checkout)"
+    else:
+        raise ValueError(f"unknown suite {name!r}; the protocol's suites are {', '.join(NAMED)}")
+    missing = [str(folder) for folder in folders if not any(folder.glob("*.json"))]
+    if missing:
+        raise UserError(f"--levels {name}: {', '.join(missing)}: no level files; {how}")
+    return folders
+
+
+def resolve_suite(path: str | Path) -> list[Path]:
+    """`path` itself, or the folders of the suite it names when no such file or folder exists."""
     path = Path(path)
-    if not path.exists() and str(path) in SUITES:
-        return suite_folder(str(path))
-    return path
+    if path.exists():
+        return [path]
+    if str(path) in SUITES:
+        return [suite_folder(str(path))]
+    if str(path) in NAMED:
+        return named_suite(str(path))
+    return [path]

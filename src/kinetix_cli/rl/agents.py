@@ -13,10 +13,11 @@ An agent folder (`kinetix agents export`) is a policy alone, small enough to shi
 parameters (a "model soup", Wortsman et al. 2022: policies fine-tuned from one agent average into one that keeps
 much of what each learned). Its card lists the ingredients; `kinetix agents export` ships it like a run.
 
-The shipped agents live in `kinetix_cli/rl/shipped/<name>/` (the newest version) and `shipped/<name>@<version>/`
-(older ones kept loadable) and are installed with the package. `general-s` names the newest version, `general-s@1`
-version 1. A name resolves to a shipped agent only when no file or folder of that name exists, so a local run
-called `general-s` still wins.
+The shipped agents live in `kinetix_cli/rl/shipped/<name>/` (the version chosen on the validation suite, its card
+saying by which rule) and `shipped/<name>@<version>/` (every other version, kept loadable) and are installed with the
+package. `general-s` names the chosen version, `general-s@1` version 1. A name resolves to a shipped agent only when
+no file or folder of that name exists, so a local run called `general-s` still wins. `default_agent()` is the one
+`make demo` fine-tunes.
 """
 
 from __future__ import annotations
@@ -64,6 +65,10 @@ class AgentCard:
         files: sha256 of `config.yaml` and `params.msgpack`, by file name.
         trained: how it was made: run, update, steps, commands, date, machine and versions.
         evaluation: zero-shot results per suite (`kinetix eval --json`'s `suites`), with attempts and seed.
+        validation: its validation record's scores and suites (`kinetix validation run`), what it was chosen on;
+            empty for an agent folder not (yet) validated.
+        test: its results on the test suite (the paper's 74 levels) per evaluation seed, read after the choice.
+        rule: the rule, written before the runs, that chose it.
     """
 
     folder: Path
@@ -72,6 +77,9 @@ class AgentCard:
     files: dict
     trained: dict
     evaluation: dict
+    validation: dict = dataclasses.field(default_factory=dict)
+    test: dict = dataclasses.field(default_factory=dict)
+    rule: str = ""
 
     def as_dict(self) -> dict:
         """The card as `agent.json` holds it, with the folder."""
@@ -79,7 +87,8 @@ class AgentCard:
 
 
 def shipped_folders() -> list[Path]:
-    """Folders of the agents installed with the package, every version: by name, the newest version first."""
+    """Folders of the agents installed with the package, every version: by name, the chosen version first, then the
+    others newest first."""
     if not SHIPPED.is_dir():
         return []
     folders = [p for p in SHIPPED.iterdir() if (p / AGENT_FILE).is_file()]
@@ -92,17 +101,38 @@ def shipped_folders() -> list[Path]:
 
 
 def shipped_names() -> list[str]:
-    """Names of the agents installed with the package (each name's newest version; `name@version` for others)."""
+    """Names of the agents installed with the package (each name's chosen version; `name@version` for others)."""
     return [p.name for p in shipped_folders() if "@" not in p.name]
 
 
+DEFAULT_ORDER = ("general", "general-s", "general-m", "general-l")
+"""Which shipped agent wins a tie for the default (`default_agent`), first to last."""
+
+
+def default_agent() -> str | None:
+    """The shipped default, the agent `make demo` fine-tunes (docs/experiments/2026-11-28-protocol/PLAN.md, rule 2):
+    among the chosen versions whose cards carry a validation record, the best fine-tuning mean; within 5 points of
+    it the first of `DEFAULT_ORDER` wins; a mean below 50% is never the default. None when no card qualifies."""
+    tuned = {}
+    for name in shipped_names():
+        card = read_card(SHIPPED / name)
+        score = card.validation.get("score", {}).get("finetune")
+        if score is not None and score >= 0.5:
+            tuned[name] = score
+    if not tuned:
+        return None
+    best = max(tuned.values())
+    near = [name for name, score in tuned.items() if score >= best - 0.05]
+    return min(near, key=lambda name: DEFAULT_ORDER.index(name) if name in DEFAULT_ORDER else len(DEFAULT_ORDER))
+
+
 def shipped_agents() -> list[tuple[AgentCard, ExperimentConfig]]:
-    """(card, config) of every shipped agent and version, by name, the newest version first."""
+    """(card, config) of every shipped agent and version, by name, the chosen version first."""
     return [(read_card(folder), load_config(folder / CONFIG_FILENAME)) for folder in shipped_folders()]
 
 
 def shipped_agent(name: str) -> Path | None:
-    """The folder of the shipped agent `name` (newest version) or `name@version`, or None when none is."""
+    """The folder of the shipped agent `name` (its chosen version) or `name@version`, or None when none is."""
     base, _, version = name.partition("@")
     if base not in shipped_names():
         return None
@@ -132,7 +162,40 @@ def read_card(folder: str | Path) -> AgentCard:
     update = card["trained"].get("update", 0)
     if not isinstance(update, int) or isinstance(update, bool) or update < 0:
         raise UserError(f"{file}: trained.update: expected an update count, got {update!r}")
-    return AgentCard(Path(folder), **{k: card[k] for k in expected})
+    optional = {"validation": dict, "test": dict, "rule": str}
+    for field, kind in optional.items():
+        if field in card and not isinstance(card[field], kind):
+            raise UserError(f"{file}: {field}: expected {kind.__name__}, got {card[field]!r}"[:300])
+    return AgentCard(Path(folder), **{k: card[k] for k in expected}, **{k: card[k] for k in optional if k in card})
+
+
+def record_choice(folder: str | Path, *, validation: dict, test: list[dict], rule: str) -> AgentCard:
+    """Put on the card of the agent folder `folder` (atomically; its files untouched) what chose it: the scores and
+    suites of its validation record, its test evaluations (`kinetix eval --json` records on the test suite, one per
+    evaluation seed) and the rule."""
+    file = Path(folder) / AGENT_FILE
+    card = read_format(file, AGENT_FORMAT, UserError)
+    read_card(folder)  # checked as a card first
+    if not rule.strip():
+        raise UserError("--rule: say the rule that chose this agent (written before its runs)")
+    seeds = [record["seed"] for record in test]
+    if not test or len(set(seeds)) != len(seeds):
+        raise UserError(f"--test: evaluation seeds {seeds}: give each seed's evaluation once")
+    for record in test:
+        suites = {name for name in record["suites"] if name != "all"}
+        if sorted(Path(name).name for name in suites) != ["l", "m", "s"] or any(
+            "reference-levels" not in n for n in suites
+        ):
+            raise UserError(f"--test: {record['policy']} seed {record['seed']}: not an evaluation on the test suite")
+    card["validation"] = {k: validation[k] for k in ("agent", "update", "attempts", "seed", "score", "suites")}
+    card["validation"]["finetune"] = validation["finetune"]["levels"]
+    card["test"] = {
+        "attempts": sorted({record["attempts"] for record in test}),
+        "by_seed": {str(record["seed"]): record["suites"] for record in test},
+    }
+    card["rule"] = rule.strip()
+    atomic_write_json(file, {k: v for k, v in card.items() if k != "format"}, AGENT_FORMAT)
+    return read_card(folder)
 
 
 def _read_agent(folder: Path) -> tuple[ExperimentConfig, object, int]:

@@ -9,6 +9,7 @@ from jax.sharding import Mesh
 
 from engine import SIZES
 from kinetix_cli.config import ExperimentConfig
+from kinetix_cli.constants import VALIDATION_SEED
 from kinetix_cli.env.level import Level, level_count, stack_levels, to_device
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.filters import chunk_source, make_config
@@ -26,10 +27,10 @@ def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
 
 def pool_seed(run_seed: int, round: int) -> int:
     """The generation seed of a generated pool's `round` (`levels.refresh_every`): the run's seed for round 0,
-    then a seed of its own derived from (run seed, round)."""
+    then a seed of its own derived from (run seed, round), below the validation suite's (`VALIDATION_SEED`)."""
     if round == 0:
         return run_seed
-    return int(np.random.SeedSequence([run_seed, round]).generate_state(1)[0] & 0x7FFFFFFF)
+    return int(np.random.SeedSequence([run_seed, round]).generate_state(1)[0] & 0x7FFFFFFF) % VALIDATION_SEED
 
 
 def level_pool(config: ExperimentConfig, mesh: Mesh | None = None, round: int = 0) -> Level | None:

@@ -28,7 +28,7 @@ def _run_main(monkeypatch, capsys, *args):
     [
         (["bench", "engine", "--size", "xl"], "--size: unknown size 'xl'"),
         (["bench", "engine", "--envs", "64,abc"], "--envs: expected comma-separated integers"),
-        (["bench", "engine", "--envs", "0"], "--envs: expected positive integers"),
+        (["bench", "engine", "--envs", "0"], "--envs: expected integers >= 1"),
         (["bench", "engine", "--against", "box2d"], "--against: only 'jax2d'"),
         (["bench", "env", "--obs", "rgb"], "--obs: unknown observation 'rgb'"),
         (["validate", "no/such/level.json"], "no/such/level.json: no such file or folder"),

@@ -109,6 +109,7 @@ def test_two_devices_write_the_set_of_one_device(tmp_path, generated_exact):
         (["generate", "--size", "xl", "--count", "4", "--out", "{tmp}/a"], "--size: unknown size 'xl'"),
         (["generate", "--count", "4", "--filter", "lucky", "--out", "{tmp}/a"], "--filter: unknown filter lucky"),
         (["levels", "info", "{tmp}/nothing"], "nothing"),
+        (["generate", "--count", "4", "--seed", "2147482624", "--out", "{tmp}/a"], "--seed"),  # the validation's
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path, monkeypatch, capsys, args, message):

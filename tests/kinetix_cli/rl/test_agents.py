@@ -17,7 +17,9 @@ from helpers.pages import read_report
 from helpers.runs import EVAL_LEVEL, TINY, TRAIN_LEVELS, set_args
 from kinetix_cli.cli.app import app
 from kinetix_cli.config import load_config
+from kinetix_cli.constants import EVAL_FORMAT, VALIDATION_FORMAT
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write_json
 from kinetix_cli.rl import agents
 from kinetix_cli.rl.checkpoints import read_policy
 from kinetix_cli.rl.networks import POLICY_HEAD
@@ -230,3 +232,46 @@ def test_a_blend_names_a_shipped_source_with_its_version(capsys, tmp_path):
     shipped = agents.load_policy("general-s")
     assert card.trained["steps"] == 2 * agents.read_card(agents.SHIPPED / "general-s").trained["steps"]
     jax.tree.map(np.testing.assert_array_equal, agents.load_policy(blend).params, shipped.params)
+
+
+def _test_record(seed: int, rate: float) -> dict:
+    """A `kinetix eval --json` record on the test suite (the paper's 74 levels), every suite at `rate`."""
+    counts = {"s": 10, "m": 24, "l": 40}
+    suites = {f".cache/reference-levels/{size}": {"levels": n, "solve_rate": rate} for size, n in counts.items()}
+    suites["all"] = {"levels": 74, "solve_rate": rate}
+    return {"policy": "tiny-agent", "seed": seed, "attempts": 50, "levels": [], "suites": suites}
+
+
+def test_an_agents_card_records_what_chose_it_and_its_test_scores(capsys, exported, tmp_path):
+    folder = shutil.copytree(exported, tmp_path / "agent")
+    before = {name: (folder / name).read_bytes() for name in ("config.yaml", "params.msgpack")}
+    validation = {
+        "agent": "tiny-agent",
+        "update": 6,
+        "attempts": 50,
+        "seed": 1000,
+        "suites": {"all": {"levels": 180}},
+        "score": {"heldout": 0.25, "ours": 0.125, "zero_shot": 0.2, "finetune": 0.5},
+        "finetune": {"levels": {"levels/m/two-link-reach.json": {"seeds": [0, 1, 2], "solve_rate": [1.0, 0.0, 0.5]}}},
+    }
+    files = [tmp_path / "validation.json"] + [tmp_path / f"test-{seed}.json" for seed in (1000, 1001)]
+    atomic_write_json(files[0], validation, VALIDATION_FORMAT)
+    for file, seed in zip(files[1:], (1000, 1001), strict=True):
+        atomic_write_json(file, _test_record(seed, 0.3), EVAL_FORMAT)
+    tests = [arg for file in files[1:] for arg in ("--test", file)]
+    made = kinetix(capsys, "agents", "record", folder, "--validation", files[0], *tests, "--rule", "PLAN.md, rule 1")
+    assert made.code == 0 and "held out 25.0%" in made.out and "30.0% (seed 1000)" in made.out
+    card = agents.read_card(folder)
+    assert card.validation["score"]["finetune"] == 0.5 and set(card.test["by_seed"]) == {"1000", "1001"}
+    assert card.rule == "PLAN.md, rule 1" and card.trained == agents.read_card(exported).trained
+    assert {name: (folder / name).read_bytes() for name in before} == before
+    agents.load_policy(folder)  # its files still match the card's checksums
+
+    other = _test_record(1002, 0.3) | {"suites": {"levels/s": {"levels": 10, "solve_rate": 0.3}}}
+    atomic_write_json(tmp_path / "other.json", other, EVAL_FORMAT)
+    refused = kinetix(
+        capsys, "agents", "record", folder, "--validation", files[0], "--test", tmp_path / "other.json", "--rule", "x"
+    )
+    assert refused.code == 2 and "not an evaluation on the test suite" in refused.error_line
+    blank = kinetix(capsys, "agents", "record", folder, "--validation", files[0], *tests, "--rule", " ")
+    assert blank.code == 2 and "--rule" in blank.error_line

@@ -13,6 +13,7 @@ import pytest
 from engine import SIZES
 from helpers.runs import tiny_config
 from kinetix_cli.config import ConfigError
+from kinetix_cli.constants import VALIDATION_SEED
 from kinetix_cli.rl.pool import fresh_source, level_pool, pool_seed
 from kinetix_cli.rl.train import train
 
@@ -58,3 +59,8 @@ def test_a_fresh_source_draws_the_configured_size_mix():
     source = fresh_source(config)
     assert source.static == SIZES["m"] and source.sampler.like == ("s", "m")
     assert fresh_source(tiny_config("levels.source=fresh", "levels.files=[]")).sampler.like == ()
+
+
+def test_no_generated_pool_draws_the_validation_suites_seeds():
+    seeds = [pool_seed(run, r) for run in range(20) for r in range(1, 200)]
+    assert max(seeds) < VALIDATION_SEED and len(set(seeds)) == len(seeds)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from helpers.cli import kinetix
-from helpers.paths import EXPERIMENTS
+from helpers.paths import EXPERIMENTS, REPO
 from kinetix_cli.config import CONFIG_FILENAME, load_config
 from kinetix_cli.constants import SIZE_INDEPENDENT_OBSERVATIONS
 from kinetix_cli.rl import agents
@@ -65,9 +67,36 @@ def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
 
 
 def test_general_s_v3_is_v2_blended_with_three_runs_of_the_recipe_trained_on_from_it():
-    card = agents.read_card(agents.SHIPPED / "general-s")
+    card = agents.read_card(agents.shipped_agent("general-s@3"))
     blend = card.trained["blend"]
     assert card.version == 3 and [b["source"] for b in blend][0] == "general-s@2" and len(blend) == 4
     assert [b["weight"] for b in blend] == pytest.approx([0.25] * 4, abs=1e-9)  # [share, 0-1]: float64 on the card
     continued = ["ppo.total_timesteps=3276800", "run.init_from=general-s@2", "run.eval_every=0", "run.seed=6"]
-    assert agents.load_policy("general-s").config == load_config(EXPERIMENTS / "general.yaml", continued)
+    assert agents.load_policy("general-s@3").config == load_config(EXPERIMENTS / "general.yaml", continued)
+
+
+def test_a_name_is_its_version_chosen_on_validation_and_every_other_version_loads_by_number():
+    """general-s v3 was shipped for its score on the paper's s levels; re-decided on the validation suite
+    (docs/experiments/2026-11-28-protocol), `general-s` is v2 again, and v3 stays loadable."""
+    assert agents.read_card(agents.shipped_agent("general-s")).version == 2
+    assert [agents.read_card(agents.shipped_agent(f"general-s@{v}")).version for v in (1, 2, 3)] == [1, 2, 3]
+    listed = [card.version for card, _ in agents.shipped_agents() if card.name == "general-s"]
+    assert listed == [2, 3, 1]  # the chosen version first, then the others newest first
+
+
+def test_every_shipped_name_carries_its_validation_its_test_and_the_rule_that_chose_it():
+    """The protocol: a name's version is chosen on the validation suite by a rule written before the runs, and its
+    test scores (the paper's 74 levels, two evaluation seeds) are read once, after."""
+    for name in agents.shipped_names():
+        card = agents.read_card(agents.SHIPPED / name)
+        assert card.validation["attempts"] == 50 and card.validation["suites"]["all"]["levels"] == 180, name
+        assert set(card.validation["score"]) == {"heldout", "ours", "zero_shot", "finetune"}, name
+        assert len(card.validation["finetune"]) == 2 and card.validation["update"] == card.trained["update"], name
+        assert len(card.test["by_seed"]) == 2 and card.test["attempts"] == [50], name
+        assert all(suites["all"]["levels"] == 74 for suites in card.test["by_seed"].values()), name
+        assert "PLAN.md" in card.rule, name
+
+
+def test_make_demo_fine_tunes_the_shipped_default():
+    demo = re.search(r"^DEMO_AGENT := (\S+)", (REPO / "Makefile").read_text(encoding="utf-8"), re.M).group(1)
+    assert demo == agents.default_agent() and demo in agents.shipped_names()
