@@ -57,7 +57,7 @@ def test_warnings_are_one_line_each_without_markup(capsys, tmp_path):
 def test_integer_bounds_print_as_integers(capsys, tmp_path):
     args = ["pretrain", "--config", "experiments/cpu-small.yaml", "--run-dir", tmp_path / "r"]
     line = kinetix(capsys, *args, "--set", "run.seed=-1").error_line
-    assert "run.seed: must be >= 0 and <= 2147483647 (got -1)" in line
+    assert "run.seed: must be >= 0 and <= 2147482623 (got -1)" in line
     line = kinetix(capsys, *args, "--set", "curriculum.refresh_every=0").error_line
     assert "curriculum.refresh_every: must be >= 1 and <= 2147483647 (got 0)" in line
     line = kinetix(capsys, *args, "--set", "curriculum.buffer_share=0").error_line

@@ -69,7 +69,7 @@ BAD_SETTINGS = [
     ("ppo.lr=.inf", "ppo.lr: expected a finite number, got inf"),
     ("ppo.lr=.nan", "ppo.lr: expected a finite number, got nan"),
     ("ppo.lr=2", "ppo.lr: must be > 0 and <= 1 (got 2.0)"),
-    (f"run.seed={2**40}", "run.seed: must be >= 0 and <= 2147483647"),
+    (f"run.seed={2**40}", "run.seed: must be >= 0 and <= 2147482623"),
     ("run.seed=-1", "run.seed: must be >= 0"),
     (f"env.max_steps={2**40}", "env.max_steps: must be >= 1 and <= 2147483647"),
     ("env.frame_skip=0", "env.frame_skip: must be >= 1 and <= 1000 (got 0)"),
