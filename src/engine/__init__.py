@@ -13,6 +13,7 @@ environment's observations, the level generator and the importers use.
 
 from engine.config import NUM_ARENA_POLYGONS, SIZES, Params, Static, size
 from engine.geometry import mass_properties, polygon_area_centroid, rotate
+from engine.mirror import mirror_motor_actions, mirror_state
 from engine.narrowphase import collide, world_polygons
 from engine.pairs import PairTable, collidable_pairs, joint_connectivity, pair_table
 from engine.random_scenes import random_actions, random_scene
@@ -44,6 +45,8 @@ __all__ = [
     "collide",
     "joint_connectivity",
     "mass_properties",
+    "mirror_motor_actions",
+    "mirror_state",
     "pair_table",
     "polygon_area_centroid",
     "random_actions",

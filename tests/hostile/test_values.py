@@ -48,7 +48,7 @@ BAD_LEVEL_VALUES = [
     (("params",), {"base_motor_power": -5}, "params: base_motor_power: must be in [0, 1e+06]"),
     (("gravity",), [0, 1e9], "gravity: must be in [-1000, 1000]"),
     (("thrusters", 0, "power"), 1e12, "power: must be in [0, 10000]"),
-    (("joints", 0, "motor", "speed"), -1, "speed: must be in [0, 100]"),
+    (("joints", 0, "motor", "speed"), -101, "speed: must be in [-100, 100]"),
 ]
 
 

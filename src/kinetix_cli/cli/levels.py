@@ -383,3 +383,64 @@ def levels_export(
     for i, data in enumerate(exported):
         save_level(out / f"{path.name}-{i:05d}.json", data)
     console.print(f"wrote {first} level files to {out}")
+
+
+@levels_app.command("mirror")
+def levels_mirror(
+    paths: list[Path] = typer.Argument(
+        ..., help="A level-set folder, or level files, folders of them and suite names (s, m, l, validation, test)."
+    ),
+    out: Path = typer.Option(
+        ...,
+        "-o",
+        "--out",
+        help="The mirrored set's folder; for level files a folder (files keep their names, under the name of the "
+        "folder they came from), or a .json file for one level.",
+    ),
+) -> None:
+    """Write the left-right mirror images (x -> 5 - x) of levels: every body, joint, thruster and the gravity
+    reflected, a level file's solution mirrored with it (motors' forward and backward swap), so `kinetix validate`
+    replays it. The mirror images of the paper's levels are test levels too."""
+    from kinetix_cli.levels.levelset import MANIFEST_FILE
+
+    if len(paths) == 1 and (paths[0] / MANIFEST_FILE).is_file():
+        _mirror_set(paths[0], out)
+        return
+    from kinetix_cli.levels.files import level_paths, load_level, save_level
+    from kinetix_cli.levels.mirror import mirrored_level_data
+    from kinetix_cli.levels.suites import resolve_suite
+
+    sources = [
+        (file, _mirrored_name(file, root))
+        for named in paths
+        for root in resolve_suite(named)
+        for file in level_paths([root])
+    ]
+    if len(sources) == 1 and out.suffix == ".json":
+        check_output_file(out, "-o")
+        targets = [(sources[0][0], out)]
+    else:
+        check_output_dir(out, "-o")
+        targets = [(file, out / name) for file, name in sources]
+        clash = next((t for i, (_, t) in enumerate(targets) if t in {u for _, u in targets[:i]}), None)
+        if clash is not None:
+            raise UserError(f"-o: two levels would be written to {clash}; mirror them into separate folders")
+    written = [(target, mirrored_level_data(load_level(file))) for file, target in targets]  # all checked first
+    for target, data in written:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        save_level(target, data)
+    console.print(f"wrote {len(written)} mirrored level file{'s' if len(written) != 1 else ''} to {out}")
+
+
+def _mirrored_name(file: Path, root: Path) -> Path:
+    """Where a mirrored level goes under -o: a file named on its own by its name, a file of a folder by its path
+    under the folder's name (`levels/validation/s/x.json` from `validation` -> `s/x.json`)."""
+    return Path(file.name) if root == file else Path(root.name) / file.relative_to(root)
+
+
+def _mirror_set(source: Path, out: Path) -> None:
+    from kinetix_cli.levels.mirror import mirror_levelset
+
+    check_output_dir(out, "-o")
+    manifest = mirror_levelset(source, out, progress=lambda kept, stats: say(f"  {kept:,} levels mirrored"))
+    console.print(f"wrote {out}: {manifest['count']:,} mirrored levels of {source} (size {manifest['size']})")

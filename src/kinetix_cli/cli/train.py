@@ -128,6 +128,13 @@ def eval_command(
     attempts: int = typer.Option(50, min=1, max=10**5, help="Stochastic episodes per level."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the sampled actions."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
+    mirror: str = typer.Option(
+        None,
+        "--mirror",
+        help="Act on the policy's view of each level joined with its view of the level's mirror image (left-right "
+        "equivariant; two network calls a step): mean (of the action probabilities), geometric (their geometric "
+        "mean) or value (the view the critic values higher).",
+    ),
     devices: int = DEVICES,
 ) -> None:
     """Solve rate, return and episode length of a trained policy per level and per suite, in the run's own
@@ -143,7 +150,7 @@ def eval_command(
 
     loaded = load_policy(policy)
     config, update = loaded.config, loaded.update
-    results = evaluate(config, loaded.params, level_paths(levels), attempts, seed, devices)
+    results = evaluate(config, loaded.params, level_paths(levels), attempts, seed, devices, mirror)
     table = Table("level", "solve rate", "return", "length")
     for r in results:
         table.add_row(r.level, f"{r.solve_rate:.0%}", f"{r.mean_return:+.2f}", f"{r.mean_length:.0f}")
@@ -154,7 +161,9 @@ def eval_command(
     if json_path is not None:
         existed = json_path.exists()
         try:
-            atomic_write_json(json_path, evaluation_record(str(policy), update, attempts, seed, results), EVAL_FORMAT)
+            atomic_write_json(
+                json_path, evaluation_record(str(policy), update, attempts, seed, results, mirror), EVAL_FORMAT
+            )
         except WriteError as exc:
             kept = f"; {json_path} is unchanged" if existed else ""
             raise WriteError(f"--json {exc}; the results are in the table above{kept}") from None

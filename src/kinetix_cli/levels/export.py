@@ -281,11 +281,10 @@ def _joint(bodies: dict, joints: dict, bindings: dict, j: int, names: dict[int, 
         if not auto and binding not in range(NUM_MOTOR_BINDINGS):
             raise ValueError(f"{entity}: motor binding: must be 0..{NUM_MOTOR_BINDINGS - 1}, got {binding}")
         motor: dict = {"binding": "auto" if auto else binding}
+        if joints["motor_power"][j] < 0:
+            raise ValueError(f"{entity}: motor_power: must be >= 0 in the format, got {joints['motor_power'][j]}")
         for field in ("speed", "power"):
-            value = joints[f"motor_{field}"][j]
-            if value < 0:
-                raise ValueError(f"{entity}: motor_{field}: must be >= 0 in the format, got {value}")
-            if value != 1:
+            if (value := joints[f"motor_{field}"][j]) != 1:
                 motor[field] = _f32(value)
         entry["motor"] = motor
     if joints["has_limits"][j]:

@@ -30,7 +30,7 @@ LIMITS: dict[str, tuple[float, float, bool]] = {
     "friction": (0.0, 100.0, False),
     "restitution": (0.0, 1.0, False),
     "gravity": (-1000.0, 1000.0, False),  # [m/s^2]
-    "speed": (0.0, 100.0, False),  # motor speed scale [1]
+    "speed": (-100.0, 100.0, False),  # motor speed scale [1]; negative turns the motor the other way
     "power": (0.0, 1e4, False),  # motor or thruster power scale [1]
 }
 """(low, high, low excluded) of every number a level file holds, by field; anything outside is an error naming the

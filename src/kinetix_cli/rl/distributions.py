@@ -19,7 +19,11 @@ import jax
 import jax.numpy as jnp
 from flax import struct
 
+from kinetix_cli.constants import NUM_MOTOR_BINDINGS
+from kinetix_cli.env.mirror import DISCRETE_MIRROR, MULTI_DISCRETE_MIRROR
+
 LOG_2PI = math.log(2.0 * math.pi)
+LOG_2 = math.log(2.0)
 
 
 def _entropy_from_logits(logits: jax.Array) -> jax.Array:
@@ -142,3 +146,36 @@ class DiagGaussian:
 
 
 Distribution = Categorical | MultiCategorical | DiagGaussian
+
+
+def mirrored(distribution: Distribution) -> Distribution:
+    """The distribution of `env.mirror.mirror_action(a)` for `a` drawn from `distribution`: what a policy that
+    chose in a level's mirror image chooses in the level (motor directions swapped, thrusters as they are)."""
+    if isinstance(distribution, MultiCategorical):
+        motors = jnp.asarray(MULTI_DISCRETE_MIRROR)
+        logits = distribution.logits
+        return MultiCategorical(logits.at[..., :NUM_MOTOR_BINDINGS, :].set(logits[..., :NUM_MOTOR_BINDINGS, motors]))
+    if isinstance(distribution, Categorical):
+        return Categorical(distribution.logits[..., jnp.asarray(DISCRETE_MIRROR)])  # the choice map is an involution
+    sign = jnp.where(jnp.arange(distribution.mean.shape[-1]) < NUM_MOTOR_BINDINGS, -1.0, 1.0)
+    return distribution.replace(mean=distribution.mean * sign)
+
+
+def averaged(a: Distribution, b: Distribution, geometric: bool = False) -> Distribution:
+    """The even mix of two distributions of one type. Categorical choices (and each multi-discrete entry) get the
+    mean of their two probabilities, or with `geometric` the normalised geometric mean (the mean of the two
+    log-probabilities: where one is near uniform the other decides, softened). A Gaussian gets the mean of the two
+    means and of the two log standard deviations either way (one Gaussian, not the two-peaked mixture)."""
+    if isinstance(a, DiagGaussian):
+        return a.replace(mean=0.5 * (a.mean + b.mean), log_std=0.5 * (a.log_std + b.log_std))
+    log_a, log_b = jax.nn.log_softmax(a.logits, axis=-1), jax.nn.log_softmax(b.logits, axis=-1)
+    if geometric:
+        return type(a)(0.5 * (log_a + log_b))  # unnormalised logits; choices impossible in either stay -inf
+    return type(a)(jnp.logaddexp(log_a, log_b) - LOG_2)  # choices impossible in both stay -inf
+
+
+def chosen(pick_a: jax.Array, a: Distribution, b: Distribution) -> Distribution:
+    """`a` where `pick_a` (...,) is true, else `b`."""
+    return jax.tree.map(
+        lambda x, y: jnp.where(pick_a.reshape(pick_a.shape + (1,) * (x.ndim - pick_a.ndim)), x, y), a, b
+    )

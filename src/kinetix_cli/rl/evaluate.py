@@ -26,12 +26,13 @@ from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.episode import Outcome, run_episode
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, share_engine_params, stack_levels
+from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import read_format
 from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.suites import shown_path
 from kinetix_cli.parallel import make_mesh, pad_batch, replicate, shard_batch, using
-from kinetix_cli.rl.networks import make_network, sampling_policy
+from kinetix_cli.rl.networks import MIRROR_MODES, make_network, mirror_policy, sampling_policy
 
 
 @dataclasses.dataclass
@@ -46,7 +47,7 @@ class LevelResult:
     mean_length: float
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "horizon", "level_axes"))
+@functools.partial(jax.jit, static_argnames=("env", "network", "horizon", "level_axes", "mirror"))
 def play_policy(
     params,
     env_params: EnvParams,
@@ -57,10 +58,12 @@ def play_policy(
     network: nn.Module,
     horizon: int,
     level_axes=0,
+    mirror: str | None = None,
 ) -> Outcome:
-    """One episode per (level, key) pair (leading axes equal) with actions sampled from the network; `level_axes`
-    from `share_engine_params`."""
-    policy = sampling_policy(network, params)
+    """One episode per (level, key) pair (leading axes equal) with actions sampled from the network, or with
+    `mirror` (a `networks.MIRROR_MODES` mode; `env` a `MirrorPairEnv`) from its view of the level joined with its
+    view of the mirror image; `level_axes` from `share_engine_params`."""
+    policy = sampling_policy(network, params) if mirror is None else mirror_policy(network, params, mirror)
     episode = functools.partial(run_episode, env, env_params, policy=policy, horizon=horizon)
     return jax.vmap(lambda level, key: episode(level, key=key), in_axes=(level_axes, 0))(levels, keys)
 
@@ -69,10 +72,20 @@ class Evaluator:
     """Plays a policy on a fixed list of level files. Built once (files loaded, levels batched per size), then
     called with parameters as often as needed: `kinetix eval` calls it once, training calls it every
     `run.eval_every` updates. The jitted rollout is shared by every evaluator with the same settings. Episodes
-    are split over `devices` local devices (None: all)."""
+    are split over `devices` local devices (None: all). With `mirror` (a `networks.MIRROR_MODES` mode) the policy
+    acts on its view of each level joined with its view of the level's mirror image (`networks.mirror_policy`)."""
 
-    def __init__(self, config: ExperimentConfig, files: list[Path], attempts: int, devices: int | None = None):
-        self.attempts = attempts
+    def __init__(
+        self,
+        config: ExperimentConfig,
+        files: list[Path],
+        attempts: int,
+        devices: int | None = None,
+        mirror: str | None = None,
+    ):
+        if mirror is not None and mirror not in MIRROR_MODES:
+            raise UserError(f"--mirror: unknown mode {mirror!r}; choose one of {', '.join(MIRROR_MODES)}")
+        self.attempts, self.mirror = attempts, mirror
         self.mesh = make_mesh(devices, local_only=True)
         self.network = make_network(config.model, config.env)
         self.horizon = config.env.max_steps
@@ -83,6 +96,7 @@ class Evaluator:
         self._groups = []
         for size, entries in by_size.items():
             env, env_params = make_env_for_level(config.env, size, str(entries[0][0]))
+            env = env if mirror is None else MirrorPairEnv.of(env)
             levels = stack_levels([spec.build(env.static) for _, spec in entries])
             repeated = jax.tree.map(lambda x: np.repeat(np.asarray(x), attempts, axis=0), levels)  # host side
             levels, level_axes = share_engine_params(repeated)
@@ -109,7 +123,12 @@ class Evaluator:
             keys = jax.random.key_data(jax.random.split(jax.random.key(seed), len(paths) * self.attempts))
             keys = jax.random.wrap_key_data(shard_batch(pad_batch(keys, self.mesh.size), self.mesh))
             play = functools.partial(
-                play_policy, env=env, network=self.network, horizon=self.horizon, level_axes=level_axes
+                play_policy,
+                env=env,
+                network=self.network,
+                horizon=self.horizon,
+                level_axes=level_axes,
+                mirror=self.mirror,
             )
             with using(self.mesh):
                 outcome = jax.device_get(play(params, env_params, levels, keys))
@@ -129,14 +148,22 @@ class Evaluator:
 
 
 def evaluate(
-    config: ExperimentConfig, params, files: list[Path], attempts: int, seed: int = 0, devices: int | None = None
+    config: ExperimentConfig,
+    params,
+    files: list[Path],
+    attempts: int,
+    seed: int = 0,
+    devices: int | None = None,
+    mirror: str | None = None,
 ) -> list[LevelResult]:
     """Play `attempts` episodes of every level file with the policy; one batched rollout per size, split over
-    `devices` local devices (None: all)."""
-    return Evaluator(config, files, attempts, devices)(params, seed)
+    `devices` local devices (None: all); `mirror` as in `Evaluator`."""
+    return Evaluator(config, files, attempts, devices, mirror)(params, seed)
 
 
-def evaluation_record(policy: str, update: int | None, attempts: int, seed: int, results: list[LevelResult]) -> dict:
+def evaluation_record(
+    policy: str, update: int | None, attempts: int, seed: int, results: list[LevelResult], mirror: str | None = None
+) -> dict:
     """The payload of an evaluation file (`EVAL_FORMAT`): what was played, each level's result and each suite's
     means. `kinetix eval --json` and training's `RUN/evaluations/<update>.json` write the same record."""
     return {
@@ -144,6 +171,7 @@ def evaluation_record(policy: str, update: int | None, attempts: int, seed: int,
         "update": update,
         "attempts": attempts,
         "seed": seed,
+        "mirror": mirror,
         "levels": [dataclasses.asdict(r) for r in results],
         "suites": suite_summary(results),
     }

@@ -50,7 +50,15 @@ from kinetix_cli.env.observations import (
     EntityObservation,
     used_bindings,
 )
-from kinetix_cli.rl.distributions import Categorical, DiagGaussian, Distribution, MultiCategorical
+from kinetix_cli.rl.distributions import (
+    Categorical,
+    DiagGaussian,
+    Distribution,
+    MultiCategorical,
+    averaged,
+    chosen,
+    mirrored,
+)
 from kinetix_cli.rl.trees import tree_mismatch
 
 FEATURE_AXES = {"symbolic-flat": 1, "pixels": 3}
@@ -478,6 +486,30 @@ def params_mismatch(config: ExperimentConfig, params) -> str | None:
 def sampling_policy(network: nn.Module, params) -> Policy:
     """The episode-runner policy that samples the network's action distribution at every step."""
     return lambda key, obs, t: network.apply(params, obs)[0].sample(key)
+
+
+MIRROR_MODES = ("mean", "geometric", "value")
+"""How `mirror_policy` joins the policy's views of a level and of its mirror image: the mean of the two action
+probabilities, their geometric mean, or the view whose value (the critic's estimate) is higher."""
+
+
+def mirror_policy(network: nn.Module, params, mode: str) -> Policy:
+    """The episode-runner policy that acts on the policy's action distribution in the level joined with its
+    distribution in the level's mirror image, mirrored back (`MIRROR_MODES`): left-right equivariant by
+    construction. It reads the observation pairs of `env.mirror.MirrorPairEnv` and runs the network twice a step."""
+    if mode not in MIRROR_MODES:
+        raise ValueError(f"unknown mirror mode {mode!r}; choose one of {', '.join(MIRROR_MODES)}")
+
+    def act(key, pair, t):
+        seen, mirror_image = pair
+        dist, value = network.apply(params, seen)
+        twin, twin_value = network.apply(params, mirror_image)
+        twin = mirrored(twin)
+        if mode == "value":
+            return chosen(value >= twin_value, dist, twin).sample(key)
+        return averaged(dist, twin, geometric=mode == "geometric").sample(key)
+
+    return act
 
 
 POLICY_HEAD = "actor_head"
