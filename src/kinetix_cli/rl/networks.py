@@ -493,23 +493,25 @@ MIRROR_MODES = ("mean", "geometric", "value")
 probabilities, their geometric mean, or the view whose value (the critic's estimate) is higher."""
 
 
+def mirror_joined(network: nn.Module, params, pair, mode: str) -> Distribution:
+    """The action distribution of the policy's view of a level joined with its view of the level's mirror image,
+    mirrored back (`MIRROR_MODES`); `pair` is (observation, observation of the mirrored state). Left-right
+    equivariant by construction: swapping the pair gives the mirror of the result."""
+    seen, mirror_image = pair
+    dist, value = network.apply(params, seen)
+    twin, twin_value = network.apply(params, mirror_image)
+    twin = mirrored(twin)
+    if mode == "value":
+        return chosen(value >= twin_value, dist, twin)
+    return averaged(dist, twin, geometric=mode == "geometric")
+
+
 def mirror_policy(network: nn.Module, params, mode: str) -> Policy:
-    """The episode-runner policy that acts on the policy's action distribution in the level joined with its
-    distribution in the level's mirror image, mirrored back (`MIRROR_MODES`): left-right equivariant by
-    construction. It reads the observation pairs of `env.mirror.MirrorPairEnv` and runs the network twice a step."""
+    """The episode-runner policy that samples `mirror_joined`: it reads the observation pairs of
+    `env.mirror.MirrorPairEnv` and runs the network twice a step."""
     if mode not in MIRROR_MODES:
         raise ValueError(f"unknown mirror mode {mode!r}; choose one of {', '.join(MIRROR_MODES)}")
-
-    def act(key, pair, t):
-        seen, mirror_image = pair
-        dist, value = network.apply(params, seen)
-        twin, twin_value = network.apply(params, mirror_image)
-        twin = mirrored(twin)
-        if mode == "value":
-            return chosen(value >= twin_value, dist, twin).sample(key)
-        return averaged(dist, twin, geometric=mode == "geometric").sample(key)
-
-    return act
+    return lambda key, pair, t: mirror_joined(network, params, pair, mode).sample(key)
 
 
 POLICY_HEAD = "actor_head"

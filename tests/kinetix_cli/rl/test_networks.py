@@ -15,11 +15,13 @@ from engine import SIZES
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
 from kinetix_cli.constants import ACTION_TYPES, MODEL_NAMES, MODEL_OBSERVATIONS, OBSERVATION_TYPES
+from kinetix_cli.env.actions import sample_action
 from kinetix_cli.env.environment import KinetixEnv
 from kinetix_cli.env.level import index_level
+from kinetix_cli.env.mirror import MirrorPairEnv, mirror_action, mirror_env_state
 from kinetix_cli.env.observations import used_bindings
-from kinetix_cli.rl.distributions import Categorical, DiagGaussian, MultiCategorical
-from kinetix_cli.rl.networks import action_distribution, make_network, parameter_count
+from kinetix_cli.rl.distributions import Categorical, DiagGaussian, MultiCategorical, averaged, mirrored
+from kinetix_cli.rl.networks import MIRROR_MODES, action_distribution, make_network, mirror_joined, parameter_count
 
 NVEC = (3, 3, 3, 3, 2, 2)
 BATCH = 3
@@ -312,3 +314,50 @@ def test_gradients_are_finite_through_masks():
 
     grads = jax.jit(jax.grad(loss))(params)
     assert all(np.all(np.isfinite(g)) for g in jax.tree.leaves(grads))
+
+
+# --- the mirror image ----------------------------------------------------------------------------------------
+def _probabilities(dist, kind: str) -> np.ndarray:
+    """Every action's probability (multi-discrete: per entry), to compare two distributions."""
+    if kind == "continuous":
+        return np.concatenate([np.asarray(dist.mean), np.broadcast_to(dist.log_std, dist.mean.shape)], -1)
+    return np.asarray(jax.nn.softmax(dist.logits, axis=-1))
+
+
+@pytest.mark.parametrize("kind", ACTION_TYPES)
+def test_a_mirrored_distribution_gives_each_mirrored_action_its_probability(kind):
+    head = jax.random.normal(jax.random.key(1), (5, {"multi-discrete": 18, "discrete": 11, "continuous": 6}[kind]))
+    dist = action_distribution(kind, head, jnp.full(6, -0.5) if kind == "continuous" else None)
+    actions = jax.vmap(lambda k: sample_action(kind, k))(jax.random.split(jax.random.key(2), 5))
+    # [nats]: the same float32 terms summed in another order
+    np.testing.assert_allclose(mirrored(dist).log_prob(mirror_action(kind, actions)), dist.log_prob(actions), atol=1e-5)
+    np.testing.assert_array_equal(_probabilities(mirrored(mirrored(dist)), kind), _probabilities(dist, kind))
+    for geometric in (False, True):
+        mix = averaged(dist, mirrored(dist), geometric)
+        if kind != "continuous":  # every choice (or entry's choice) has probability in [0, 1], summing to 1
+            np.testing.assert_allclose(_probabilities(mix, kind).sum(-1), 1.0, atol=1e-6)  # [1]
+        # the mix of a distribution and its mirror image is its own mirror image: left-right symmetric
+        np.testing.assert_allclose(_probabilities(mirrored(mix), kind), _probabilities(mix, kind), atol=1e-6)  # [1]
+
+
+@pytest.mark.parametrize("mode", MIRROR_MODES)
+def test_a_policy_joined_with_its_mirror_image_is_left_right_equivariant(mode):
+    """The joined policy in a state and in the state's mirror image choose mirror-image actions with equal
+    probabilities, although the network alone does not."""
+    network = tiny("rel-mlp")
+    env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
+    state = env.initial_state(index_level(random_levels(SIZES["s"], 4, 0), 1))
+    pair, twin_pair = env.observe(state), env.observe(mirror_env_state(state))
+    params = network.init(jax.random.key(0), pair[0])
+    params = jax.tree.map(lambda x: x * 8.0, params)  # far from uniform, so that a difference would show
+    here = mirror_joined(network, params, pair, mode)
+    there = mirror_joined(network, params, twin_pair, mode)
+    # [1]: the mirrored twice state differs from the state by the rounding of 5 - x (~1e-7 m)
+    np.testing.assert_allclose(
+        _probabilities(mirrored(there), "multi-discrete"), _probabilities(here, "multi-discrete"), atol=1e-4
+    )
+    alone, alone_there = network.apply(params, pair[0])[0], network.apply(params, twin_pair[0])[0]
+    gap = np.abs(
+        _probabilities(mirrored(alone_there), "multi-discrete") - _probabilities(alone, "multi-discrete")
+    ).max()
+    assert gap > 0.05, gap
