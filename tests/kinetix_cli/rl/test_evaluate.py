@@ -10,7 +10,7 @@ from helpers.levels import FALL
 from helpers.runs import tiny_config
 from kinetix_cli.errors import UserError
 from kinetix_cli.rl.agents import load_policy
-from kinetix_cli.rl.evaluate import Evaluator, suite_summary
+from kinetix_cli.rl.evaluate import Evaluator, evaluation_record, suite_summary
 
 
 @pytest.fixture(scope="module")
@@ -44,3 +44,14 @@ def test_suite_summary_means_per_folder(tiny_run, fall_levels):
     results = Evaluator(policy.config, fall_levels, attempts=2)(policy.params)
     summary = suite_summary(results)
     assert summary["all"]["levels"] == 2 and summary[str(fall_levels[0].parent)]["solve_rate"] == 1.0
+
+
+def test_a_policy_joined_with_its_mirror_image_plays_and_says_so(tiny_run, fall_levels):
+    """`--mirror`: the episodes observe pairs (`MirrorPairEnv`) and the record names the mode; a bad mode is one
+    error before anything is built."""
+    policy = load_policy(tiny_run)
+    normal, fast = Evaluator(policy.config, fall_levels, attempts=2, mirror="mean")(policy.params)
+    assert normal.solve_rate == fast.solve_rate == 1.0
+    assert evaluation_record("tiny", 1, 2, 0, [normal], mirror="mean")["mirror"] == "mean"
+    with pytest.raises(UserError, match="--mirror: unknown mode 'left'; choose one of mean, geometric, value"):
+        Evaluator(policy.config, fall_levels, attempts=2, mirror="left")

@@ -350,13 +350,13 @@ def test_a_policy_joined_with_its_mirror_image_is_left_right_equivariant(mode):
     pair, twin_pair = env.observe(state), env.observe(mirror_env_state(state))
     params = network.init(jax.random.key(0), pair[0])
     params = jax.tree.map(lambda x: x * 8.0, params)  # far from uniform, so that a difference would show
-    here = mirror_joined(network, params, pair, mode)
-    there = mirror_joined(network, params, twin_pair, mode)
+    joined = jax.jit(lambda params, pair: mirror_joined(network, params, pair, mode))
+    here, there = joined(params, pair), joined(params, twin_pair)
     # [1]: the mirrored twice state differs from the state by the rounding of 5 - x (~1e-7 m)
     np.testing.assert_allclose(
         _probabilities(mirrored(there), "multi-discrete"), _probabilities(here, "multi-discrete"), atol=1e-4
     )
-    alone, alone_there = network.apply(params, pair[0])[0], network.apply(params, twin_pair[0])[0]
+    alone, alone_there = (jax.jit(network.apply)(params, obs)[0] for obs in (pair[0], twin_pair[0]))
     gap = np.abs(
         _probabilities(mirrored(alone_there), "multi-discrete") - _probabilities(alone, "multi-discrete")
     ).max()
