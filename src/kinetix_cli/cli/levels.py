@@ -251,7 +251,7 @@ def levels_info(
     path: Path = typer.Argument(..., help="Level-set folder."),
     json_out: bool = typer.Option(False, "--json", help="Print JSON instead of tables."),
 ) -> None:
-    """A level set's settings, filter statistics and entity counts."""
+    """A level set's settings, filter statistics and entity counts (and a solved set's solution counts)."""
     import json
 
     from kinetix_cli.levels.levelset import load_levelset
@@ -270,10 +270,22 @@ def levels_info(
         "settings": manifest["settings"],
         "statistics": level_statistics(manifest["size"], levelset.levels),
     }
+    if levelset.solutions is not None:
+        found = levelset.solutions
+        solved = int(found.solved.sum())
+        info["solutions"] = {
+            "solved": solved,
+            "unsolved": len(found.solved) - solved,
+            "mean length": float(found.length[found.solved].mean()) if solved else None,
+        }
     if json_out:
         print(json.dumps(info, indent=2))
         return
     say((str(path), "bold"), f": {info['count']:,} size-{info['size']} levels, seed {info['seed']}")
+    if "solutions" in info:
+        row = info["solutions"]
+        length = "" if row["mean length"] is None else f" (in {row['mean length']:.0f} steps on average)"
+        console.print(f"solutions: {row['solved']:,} solved{length}, {row['unsolved']:,} not solved by the search")
     console.print("generation: " + ", ".join(f"{k} {v:,}" for k, v in info["generation"].items()))
     stats = info["statistics"]
     table = Table("per level", "mean", "min", "max")
@@ -444,3 +456,31 @@ def _mirror_set(source: Path, out: Path) -> None:
     check_output_dir(out, "-o")
     manifest = mirror_levelset(source, out, progress=lambda kept, stats: say(f"  {kept:,} levels mirrored"))
     console.print(f"wrote {out}: {manifest['count']:,} mirrored levels of {source} (size {manifest['size']})")
+
+
+@levels_app.command("solve")
+def levels_solve(
+    path: Path = typer.Argument(..., help="Level-set folder (kinetix generate)."),
+    out: Path = typer.Option(..., "-o", "--out", help="Folder of the solved set to write (resumes if killed)."),
+    population: int = typer.Option(64, min=8, max=65536, help="Action sequences per level and iteration."),
+    iterations: int = typer.Option(10, min=1, max=10000, help="Most CEM iterations per level."),
+    segments: int = typer.Option(16, min=1, max=256, help="Pieces of constant action per episode."),
+    batch: int = typer.Option(64, min=1, max=65536, help="Levels searched at once."),
+    seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Random seed of the search."),
+) -> None:
+    """Search a solution for every level of a set (the cross-entropy method of `kinetix solve`, many levels at once)
+    and write the solved set: the levels with their solutions, the unsolved marked (`kinetix levels info` counts
+    them). Observations are not stored: replaying a solution gives them."""
+    check_output_dir(out, "-o")
+    from kinetix_cli.tools.solve import SolveConfig, solve_levelset
+
+    config = SolveConfig(population=population, iterations=iterations, segments=segments, seed=seed)
+    manifest = solve_levelset(
+        path,
+        out,
+        config,
+        batch,
+        progress=lambda kept, stats: say(f"  {kept:,} levels searched, {stats['solved']:,} solved"),
+    )
+    stats = manifest["stats"]
+    console.print(f"wrote {out}: {stats['solved']:,} of {manifest['count']:,} levels solved, {stats['unsolved']:,} not")

@@ -3,8 +3,11 @@
 A level set is a directory: `manifest.json` (format `kinetix-levelset/1`) and shards `shard-00000.npz`, ...,
 each holding a batch of levels of one size as one array per leaf of the levels' `physics` and `bindings`, keyed
 by its tree path ("physics/bodies/position": (n, num_bodies, 2) float32). Every shard but the last holds
-`shard_size` levels. Generated levels run with the engine's default constants, so `engine_params` is not stored;
-loaded levels carry the defaults.
+`shard_size` levels. A *solved* set (manifest `"solutions": true`, written by `kinetix levels solve`) also holds each
+level's solution search result: "solution/actions" (n, 256, 6) int8 multi-discrete actions, "solution/solved" (n,)
+bool (False: no search solved it, and the actions are no-ops) and "solution/length" (n,) int32 steps to the solve.
+Generated levels run with the engine's default constants, so `engine_params` is not stored; loaded levels carry the
+defaults.
 While generating, `progress.json` records where to resume; it is removed once the manifest is written.
 Files are byte-reproducible: the same call always writes the same bytes, interrupted or not, in one process or
 several: in a multi-process run (`kinetix_cli.parallel`) every process computes every chunk together (split over
@@ -28,7 +31,8 @@ import jax
 import numpy as np
 
 from engine import SIZES, Scene
-from kinetix_cli.constants import LEVELSET_FORMAT, LEVELSET_PROGRESS_FORMAT
+from kinetix_cli.config import EnvSettings
+from kinetix_cli.constants import ACTION_WIDTH, LEVELSET_FORMAT, LEVELSET_PROGRESS_FORMAT
 from kinetix_cli.env.level import Level, empty_bindings, index_level, make_level
 from kinetix_cli.errors import UserError, WriteError
 from kinetix_cli.io import atomic_write, atomic_write_json, check_output_dir, read_format
@@ -52,11 +56,28 @@ Arrays = dict[str, np.ndarray]
 
 
 @dataclasses.dataclass
+class Solutions:
+    """The solutions of a batch of levels (numpy, leading axis = level).
+
+    Attributes:
+        actions: (n, SOLUTION_STEPS, 6) int8 multi-discrete actions (no-ops after the solve, and for unsolved levels).
+        solved: (n,) bool, whether `actions` solve the level.
+        length: (n,) int32 environment steps to the solve (0 when unsolved).
+    """
+
+    actions: np.ndarray
+    solved: np.ndarray
+    length: np.ndarray
+
+
+@dataclasses.dataclass
 class LevelSet:
-    """A loaded level set: `manifest` as written, `levels` a batched `Level` of numpy (count, ...) arrays."""
+    """A loaded level set: `manifest` as written, `levels` a batched `Level` of numpy (count, ...) arrays, and for a
+    solved set its `solutions`."""
 
     manifest: dict
     levels: Level
+    solutions: Solutions | None = None
 
 
 @dataclasses.dataclass
@@ -86,6 +107,28 @@ def template_level(size: str) -> Level:
 
 STORED_FIELDS = ("physics", "bindings")
 """The parts of a `Level` a level set stores, in this order."""
+SOLUTION_STEPS = EnvSettings.max_steps
+"""Steps of a stored solution: the episode cap solutions are recorded at (`levels.solution.SOLUTION_SETTINGS`)."""
+SOLUTION_ARRAYS = {
+    "solution/actions": np.zeros((SOLUTION_STEPS, ACTION_WIDTH), np.int8),
+    "solution/solved": np.zeros((), bool),
+    "solution/length": np.zeros((), np.int32),
+}
+"""The leaves a solved set adds after the level's, with one level's shape and dtype."""
+
+
+def template_arrays(size: str, solutions: bool = False) -> Arrays:
+    """One level's leaves (and a solved set's solution leaves) as a set of `size` stores them."""
+    return to_arrays(template_level(size)) | (SOLUTION_ARRAYS if solutions else {})
+
+
+def solution_arrays(solutions: Solutions) -> Arrays:
+    """The solved set's leaves of a batch of solutions."""
+    return {
+        "solution/actions": np.asarray(solutions.actions, np.int8),
+        "solution/solved": np.asarray(solutions.solved, bool),
+        "solution/length": np.asarray(solutions.length, np.int32),
+    }
 
 
 def to_arrays(levels: Level) -> Arrays:
@@ -170,14 +213,16 @@ def generate_levelset(
     count: int,
     seed: int,
     settings: dict,
-    chunk_fn: Callable[[int], tuple[Level, dict]],
+    chunk_fn: Callable[[int], tuple],
     shard_size: int = DEFAULT_SHARD_SIZE,
     progress: Callable[[int, dict], None] | None = None,
+    solutions: bool = False,
 ) -> dict:
     """Generate (or resume, or return the finished) level set in `out_dir`; returns its manifest.
 
     `chunk_fn(i)` returns chunk i's kept levels (a batched `Level`, (n, ...) leaves, n may be 0) and its
-    counters (e.g. {"sampled": 64, "dropped_noop": 3}); it must be deterministic in i. Chunks 0, 1, ... are
+    counters (e.g. {"sampled": 64, "dropped_noop": 3}), and with `solutions` (a solved set) also their
+    `Solutions`; it must be deterministic in i. Chunks 0, 1, ... are
     consumed in order, levels already kept (same content hash) are dropped and counted in
     stats["duplicates"], until `count` levels are kept. Shards are written as they fill; memory holds about
     one shard plus one chunk. `progress(kept, stats)` is called after each chunk with the summed counters.
@@ -188,7 +233,9 @@ def generate_levelset(
     if count < 1 or shard_size < 1:
         raise UserError(f"--count and --shard-size must be >= 1, got {count} and {shard_size}")
     identity = json.loads(json.dumps(dict(size=size, count=count, seed=seed, shard_size=shard_size, settings=settings)))
-    template = to_arrays(template_level(size))
+    if solutions:
+        identity["solutions"] = True
+    template = template_arrays(size, solutions)
     _remove_temporaries(out)
     if (out / MANIFEST_FILE).is_file():
         manifest = read_format(out / MANIFEST_FILE, LEVELSET_FORMAT)
@@ -245,8 +292,8 @@ def _remove_temporaries(out: Path) -> None:
 
 
 def _chunk(chunk_fn: Callable, i: int, template: Arrays) -> tuple[Arrays, dict]:
-    levels, stats = chunk_fn(i)
-    arrays = to_arrays(levels)
+    levels, stats, *solved = chunk_fn(i)
+    arrays = to_arrays(levels) | (solution_arrays(solved[0]) if solved else {})
     if problem := shape_problem(arrays, template):
         raise ValueError(f"chunk_fn({i}) returned levels of the wrong shape: {problem}")
     return arrays, stats
@@ -322,10 +369,10 @@ def _resume(out: Path, identity: dict, template: Arrays) -> _Run:
 
 
 def _check_identity(out: Path, recorded: dict, identity: dict) -> None:
-    for key in IDENTITY_FIELDS:
-        if recorded.get(key) != identity[key]:
+    for key in (*IDENTITY_FIELDS, "solutions"):
+        if recorded.get(key) != identity.get(key):
             raise UserError(
-                f"{out}: holds a level set with {key}={recorded.get(key)!r}, not {identity[key]!r}; "
+                f"{out}: holds a level set with {key}={recorded.get(key)!r}, not {identity.get(key)!r}; "
                 "use another directory or delete this one"
             )
 
@@ -340,10 +387,14 @@ def load_levelset(path: str | os.PathLike) -> LevelSet:
     manifest = read_format(file, LEVELSET_FORMAT)
     _check_manifest(file, manifest)
     template_tree = template_level(manifest["size"])
-    template = to_arrays(template_tree)
+    solved = manifest.get("solutions", False)
+    template = template_arrays(manifest["size"], solved)
     parts = [read_shard(root / entry["file"], entry, template) for entry in manifest["shards"]]
     arrays = {key: np.concatenate([p[key] for p in parts]) for key in template}
-    return LevelSet(manifest, from_arrays(arrays, template_tree))
+    solutions = None
+    if solved:
+        solutions = Solutions(*(arrays.pop(key) for key in SOLUTION_ARRAYS))
+    return LevelSet(manifest, from_arrays(arrays, template_tree), solutions)
 
 
 def _check_manifest(file: Path, manifest: dict) -> None:
@@ -354,6 +405,8 @@ def _check_manifest(file: Path, manifest: dict) -> None:
 
     if manifest.get("size") not in SIZES:
         bad("size", f"expected one of {', '.join(SIZES)}, got {manifest.get('size')!r}")
+    if not isinstance(manifest.get("solutions", False), bool):
+        bad("solutions", "expected true or false")
     for field, kind in (("seed", int), ("stats", dict), ("settings", dict)):
         if not isinstance(manifest.get(field), kind) or isinstance(manifest.get(field), bool):
             bad(field, f"missing or not {'an integer' if kind is int else 'an object'}")

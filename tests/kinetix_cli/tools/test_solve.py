@@ -1,10 +1,19 @@
-"""The CEM search finds a robust solution of an easy level, which then replays."""
+"""The CEM search finds a robust solution of an easy level, which then replays; a solved set keeps the search result
+of every level of a set."""
 
 from __future__ import annotations
 
+import numpy as np
+
+from engine import SIZES
+from helpers.cli import kinetix
 from helpers.levels import PUSH
+from helpers.levelsets import small_levelset
+from kinetix_cli.env.episode import replay
+from kinetix_cli.env.factory import make_env
+from kinetix_cli.levels.levelset import load_levelset
 from kinetix_cli.levels.parse import parse_level
-from kinetix_cli.levels.solution import check_level
+from kinetix_cli.levels.solution import SOLUTION_SETTINGS, check_level
 from kinetix_cli.tools.solve import SolveConfig, solve
 
 
@@ -18,3 +27,27 @@ def test_search_finds_a_robust_solution_that_replays():
     assert bool(outcome["solution"].solved[0]) and int(outcome["solution"].length[0]) == result.length
     assert not bool(outcome["noop"].solved[0])
     assert outcome["random"].solved.shape == (4,)
+
+
+def test_a_solved_set_keeps_each_levels_search_result_and_replays_its_solutions(capsys, tmp_path):
+    """Six shipped s levels searched three at a time: every solution it stores solves its level, the unsolved are
+    marked with no-op actions, the same command writes the same bytes, and `levels info` counts both."""
+    small_levelset(tmp_path / "set")
+    args = ["levels", "solve", tmp_path / "set", "--population", "16", "--iterations", "3", "--batch", "3"]
+    assert kinetix(capsys, *args, "-o", tmp_path / "solved").code == 0
+    solved = load_levelset(tmp_path / "solved")
+    found = solved.solutions
+    assert found.actions.shape == (6, 256, 6) and found.actions.dtype == np.int8
+    assert found.solved.sum() >= 1 and solved.manifest["stats"]["solved"] == found.solved.sum()
+    assert solved.manifest["settings"]["search"]["batch"] == 3
+    assert not found.actions[~found.solved].any() and not found.length[~found.solved].any()
+    env, params = make_env(SOLUTION_SETTINGS, SIZES["s"])
+    outcome = replay(env, params, solved.levels, found.actions.astype(np.int32))
+    np.testing.assert_array_equal(outcome.solved, found.solved)
+    np.testing.assert_array_equal(outcome.length[found.solved], found.length[found.solved])
+    assert kinetix(capsys, *args, "-o", tmp_path / "again").code == 0
+    assert load_levelset(tmp_path / "again").manifest["shards"] == solved.manifest["shards"]  # same sha256s
+    result = kinetix(capsys, "levels", "info", tmp_path / "solved")
+    assert f"solutions: {found.solved.sum()} solved" in result.out
+    line = kinetix(capsys, "levels", "solve", tmp_path / "solved" / "nowhere", "-o", tmp_path / "x").error_line
+    assert "manifest.json: not found" in line
