@@ -31,6 +31,7 @@ Observation = Literal[OBSERVATION_TYPES]
 ActionKind = Literal[ACTION_TYPES]
 ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
+MirrorJoin = Literal["none", "mean", "geometric"]
 LevelSource = Literal["fresh", "generated", "levelset", "files"]
 CurriculumName = Literal["dr", "sfl", "plr", "accel"]
 PLRScore = Literal["maxmc", "pvl"]
@@ -89,6 +90,10 @@ class ModelSettings:
             channels drives heads / 4 of them); the head size is width / heads (128 / 8 = 16).
         mask_unused_actions: the action entries of bindings that no actuator of the level uses stay "off" and
             count in neither log-probability nor entropy (entity models only; off: the reference's policy).
+        mirror: 'none', or how the model joins its view of each state with its view of the state's mirror image
+            (the environment observes both): 'mean' of the two action probabilities or their 'geometric' mean, the
+            value the mean of the two. Left-right equivariant by construction, in training too; the parameters are
+            the plain model's (a plain agent starts such a run, and back). Two network calls a step.
     """
 
     SECTION: ClassVar[str] = "model"
@@ -99,6 +104,12 @@ class ModelSettings:
     transformer_layers: int = 2
     heads: int = 8
     mask_unused_actions: bool = False
+    mirror: MirrorJoin = "none"
+
+    @property
+    def reads_pairs(self) -> bool:
+        """Whether the model reads (observation, mirrored observation) pairs (`make_env(..., pairs=True)`)."""
+        return self.mirror != "none"
 
     def __post_init__(self):
         check_types(self)

@@ -8,18 +8,21 @@ from engine import SIZES, Static
 from kinetix_cli.config import EnvSettings
 from kinetix_cli.constants import SIZE_INDEPENDENT_OBSERVATIONS
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.errors import UserError
 
 
-def make_env(settings: EnvSettings, static: Static | None = None) -> tuple[KinetixEnv, EnvParams]:
+def make_env(settings: EnvSettings, static: Static | None = None, pairs: bool = False) -> tuple[KinetixEnv, EnvParams]:
     """The environment and its parameters for `settings` (an experiment's `env` section).
 
     Args:
         settings: size, observation, action, frame skip, episode cap and shaping.
         static: capacities to build at instead of `settings.size` (an entity-observation policy plays levels of
             other sizes; see `constants.SIZE_INDEPENDENT_OBSERVATIONS`).
+        pairs: observe every state and its mirror image (`mirror.MirrorPairEnv`): what a model with
+            `model.mirror` reads (`ModelSettings.reads_pairs`).
     """
-    env = KinetixEnv(
+    env = (MirrorPairEnv if pairs else KinetixEnv)(
         static=SIZES[settings.size] if static is None else static,
         observation=settings.observation,
         action=settings.action,
@@ -28,7 +31,9 @@ def make_env(settings: EnvSettings, static: Static | None = None) -> tuple[Kinet
     return env, EnvParams(max_steps=settings.max_steps, dense_reward_scale=settings.dense_reward_scale)
 
 
-def make_env_for_level(settings: EnvSettings, level_size: str, source: str) -> tuple[KinetixEnv, EnvParams]:
+def make_env_for_level(
+    settings: EnvSettings, level_size: str, source: str, pairs: bool = False
+) -> tuple[KinetixEnv, EnvParams]:
     """The environment of `settings` built at a level's size, for a policy trained with `settings` to play it.
 
     A policy reading a size-independent observation (`constants.SIZE_INDEPENDENT_OBSERVATIONS`) plays levels of
@@ -39,4 +44,4 @@ def make_env_for_level(settings: EnvSettings, level_size: str, source: str) -> t
             f"{source}: a size-{level_size} level; this policy reads {settings.observation} observations of size "
             f"{settings.size} only"
         )
-    return make_env(settings, SIZES[level_size])
+    return make_env(settings, SIZES[level_size], pairs)

@@ -264,7 +264,7 @@ class LoadedPolicy:
     def env_for(self, size: str, origin: str) -> tuple[KinetixEnv, EnvParams]:
         """The environment this policy plays size-`size` levels in: its run's settings (frame skip, episode cap,
         shaping, observation, action); `origin` names the level in errors."""
-        return make_env_for_level(self.config.env, size, origin)
+        return make_env_for_level(self.config.env, size, origin, self.config.model.reads_pairs)
 
 
 def load_policy(source: str | os.PathLike) -> LoadedPolicy:

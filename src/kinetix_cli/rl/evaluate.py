@@ -26,7 +26,6 @@ from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.episode import Outcome, run_episode
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, share_engine_params, stack_levels
-from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import read_format
 from kinetix_cli.levels.files import load_level
@@ -85,6 +84,10 @@ class Evaluator:
     ):
         if mirror is not None and mirror not in MIRROR_MODES:
             raise UserError(f"--mirror: unknown mode {mirror!r}; choose one of {', '.join(MIRROR_MODES)}")
+        if mirror is not None and config.model.reads_pairs:
+            raise UserError(
+                f"--mirror: this policy is already joined with its mirror image (model.mirror={config.model.mirror})"
+            )
         self.attempts, self.mirror = attempts, mirror
         self.mesh = make_mesh(devices, local_only=True)
         self.network = make_network(config.model, config.env)
@@ -95,8 +98,8 @@ class Evaluator:
             by_size.setdefault(spec.default_size(), []).append((path, spec))
         self._groups = []
         for size, entries in by_size.items():
-            env, env_params = make_env_for_level(config.env, size, str(entries[0][0]))
-            env = env if mirror is None else MirrorPairEnv.of(env)
+            pairs = config.model.reads_pairs or mirror is not None
+            env, env_params = make_env_for_level(config.env, size, str(entries[0][0]), pairs)
             levels = stack_levels([spec.build(env.static) for _, spec in entries])
             repeated = jax.tree.map(lambda x: np.repeat(np.asarray(x), attempts, axis=0), levels)  # host side
             levels, level_axes = share_engine_params(repeated)

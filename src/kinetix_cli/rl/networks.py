@@ -22,6 +22,7 @@ head and 1.0 on the critic head, zero biases; the attention and gate layers keep
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 
@@ -459,7 +460,13 @@ class EntityTransformer(nn.Module):
 def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     """The actor-critic of an experiment: `model` is its `model` section, `env` its `env` section (the action type
     sets the heads, the observation the input). Raises ValueError for a model that cannot read the observation
-    (`constants.MODEL_OBSERVATIONS`; a validated `ExperimentConfig` never has one)."""
+    (`constants.MODEL_OBSERVATIONS`; a validated `ExperimentConfig` never has one). With `model.mirror` it is the
+    `MirrorJoinedNetwork` of the plain model."""
+    base = _plain_network(model, env)
+    return base if model.mirror == "none" else MirrorJoinedNetwork(base, model.mirror)
+
+
+def _plain_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     if env.observation not in MODEL_OBSERVATIONS[model.name]:
         raise ValueError(f"model {model.name!r} cannot read {env.observation!r} observations")
     heads = {"action_type": env.action, "hidden_width": model.width, "hidden_depth": model.actor_critic_layers}
@@ -476,7 +483,7 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
 def params_mismatch(config: ExperimentConfig, params) -> str | None:
     """Why `params` do not fit the network of `config` (the first leaf missing, extra or of another shape or
     dtype than the network initialises), or None when they fit."""
-    env, _ = make_env(config.env)
+    env, _ = make_env(config.env, pairs=config.model.reads_pairs)
     static = env.static
     level = make_level(Scene().build_numpy(static), empty_bindings(static.num_joints, static.num_thrusters))
     obs = jax.eval_shape(lambda: env.reset_to_level(level)[0])
@@ -497,13 +504,33 @@ def mirror_joined(network: nn.Module, params, pair, mode: str) -> Distribution:
     """The action distribution of the policy's view of a level joined with its view of the level's mirror image,
     mirrored back (`MIRROR_MODES`); `pair` is (observation, observation of the mirrored state). Left-right
     equivariant by construction: swapping the pair gives the mirror of the result."""
-    seen, mirror_image = pair
-    dist, value = network.apply(params, seen)
-    twin, twin_value = network.apply(params, mirror_image)
+    return _joined(network.apply(params, pair[0]), network.apply(params, pair[1]), mode)[0]
+
+
+def _joined(view, mirror_view, mode: str):
+    """(distribution, value) of two views (each the network's (distribution, value)) joined in `mode`."""
+    (dist, value), (twin, twin_value) = view, mirror_view
     twin = mirrored(twin)
     if mode == "value":
-        return chosen(value >= twin_value, dist, twin)
-    return averaged(dist, twin, geometric=mode == "geometric")
+        return chosen(value >= twin_value, dist, twin), jnp.maximum(value, twin_value)
+    return averaged(dist, twin, geometric=mode == "geometric"), 0.5 * (value + twin_value)
+
+
+@dataclasses.dataclass(frozen=True)
+class MirrorJoinedNetwork:
+    """A plain actor-critic `base` joined with its own view of each state's mirror image (`model.mirror`): it reads
+    the pairs of `env.mirror.MirrorPairEnv`, and its action distribution is `mirror_joined`'s in `mode` ('mean' or
+    'geometric'), its value the mean of the two views'. Its parameters are `base`'s (the same `init` and tree), so
+    plain checkpoints and agents load into it and out of it. Left-right equivariant, in training too."""
+
+    base: nn.Module
+    mode: str
+
+    def init(self, key: jax.Array, pair):
+        return self.base.init(key, pair[0])
+
+    def apply(self, params, pair):
+        return _joined(self.base.apply(params, pair[0]), self.base.apply(params, pair[1]), self.mode)
 
 
 def mirror_policy(network: nn.Module, params, mode: str) -> Policy:

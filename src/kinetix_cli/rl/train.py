@@ -133,7 +133,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     evaluator = _evaluator(config, devices)
     pool = None if pool is None else replicate(pool, mesh)
     fresh = fresh_source(config)
-    env, env_params = make_env(config.env)
+    env, env_params = make_env(config.env, pairs=config.model.reads_pairs)
     env_params = replicate(env_params, mesh)
     network = make_network(config.model, config.env)
     settings = config.ppo

@@ -361,3 +361,26 @@ def test_a_policy_joined_with_its_mirror_image_is_left_right_equivariant(mode):
         _probabilities(mirrored(alone_there), "multi-discrete") - _probabilities(alone, "multi-discrete")
     ).max()
     assert gap > 0.05, gap
+
+
+@pytest.mark.parametrize("mode", ["mean", "geometric"])
+def test_a_mirror_joined_model_has_the_plain_models_parameters_and_acts_joined(mode):
+    """`model.mirror`: the same parameter tree as the plain model (plain agents load into it), the joined
+    distribution of `mirror_joined`, the mean of the two views' values; a bad mode is a config error."""
+    plain = tiny("rel-mlp")
+    joined = make_network(ModelSettings(name="rel-mlp", width=16, actor_critic_layers=2, mirror=mode), plain_env())
+    env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
+    pair = env.observe(env.initial_state(index_level(random_levels(SIZES["s"], 4, 0), 2)))
+    params = plain.init(jax.random.key(0), pair[0])
+    assert jax.tree.structure(joined.init(jax.random.key(0), pair)) == jax.tree.structure(params)
+    dist, value = jax.jit(joined.apply)(params, pair)
+    expected = jax.jit(lambda p, o: mirror_joined(plain, p, o, mode))(params, pair)
+    np.testing.assert_allclose(np.asarray(dist.logits), np.asarray(expected.logits), atol=1e-6)  # [nats]
+    values = [float(jax.jit(plain.apply)(params, obs)[1]) for obs in pair]
+    np.testing.assert_allclose(float(value), np.mean(values), atol=1e-6)  # [1]
+    with pytest.raises(ConfigError, match="model.mirror: expected one of 'none', 'mean', 'geometric'"):
+        ModelSettings(name="rel-mlp", mirror="value")
+
+
+def plain_env() -> EnvSettings:
+    return EnvSettings(size="s", observation="symbolic-entity")

@@ -305,3 +305,14 @@ def test_fresh_levels_train_and_resume_bit_identically(tmp_path, curriculum):
     resumed = train(config, tmp_path / "cut", resume=True)
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     assert metrics(tmp_path / "cut")[-1]["return"] == metrics(tmp_path / "whole")[-1]["return"]
+
+
+@pytest.mark.slow  # a second compile of the PPO update (the model reads pairs): ~40 s
+def test_a_mirror_joined_model_trains_from_a_plain_run_and_evaluates(tmp_path, tiny_run, tiny_pool):
+    """`model.mirror`: a plain run's parameters start it, it trains on observation pairs, and `kinetix eval` plays it
+    with its own joined policy."""
+    config = tiny_config("model.mirror=geometric", f"run.init_from={tiny_run}")
+    runner = train(config, tmp_path / "mirror", pool=tiny_pool)
+    assert jax.tree.structure(runner.params) == jax.tree.structure(load_policy(tiny_run).params)
+    (result,) = evaluate(load_policy(tmp_path / "mirror").config, runner.params, [LEVELS / "s" / "pad-to-pad.json"], 2)
+    assert 0.0 <= result.solve_rate <= 1.0 and result.mean_length > 0
