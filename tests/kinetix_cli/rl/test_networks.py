@@ -340,7 +340,12 @@ def test_a_mirrored_distribution_gives_each_mirrored_action_its_probability(kind
         np.testing.assert_allclose(_probabilities(mirrored(mix), kind), _probabilities(mix, kind), atol=1e-6)  # [1]
 
 
-@pytest.mark.parametrize("mode", MIRROR_MODES)
+JOIN_MODES = [pytest.param(m, marks=[] if m == "geometric" else pytest.mark.slow) for m in MIRROR_MODES]
+"""make test holds one mode to it (each costs a compile of the model, ~10 s); the modes share `_joined` and
+`mirrored`, and the mean and geometric joins' own symmetry is checked above; make test-all runs all three."""
+
+
+@pytest.mark.parametrize("mode", JOIN_MODES)
 def test_a_policy_joined_with_its_mirror_image_is_left_right_equivariant(mode):
     """The joined policy in a state and in the state's mirror image choose mirror-image actions with equal
     probabilities, although the network alone does not."""
