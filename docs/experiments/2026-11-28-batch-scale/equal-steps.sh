@@ -3,8 +3,8 @@
 set -euo pipefail
 out=docs/experiments/2026-11-28-batch-scale
 kinetix=.venv/bin/kinetix
-for seed in 0 1 2; do
-  for envs in 256 1024 4096; do
+for envs in ${ENVS:-256 1024 4096}; do
+  for seed in 0 1 2; do
     run=runs/batch-scale/steps-$envs-$seed
     refresh=$((64 * 256 / envs))
     if [ ! -f "$run/done" ]; then
