@@ -16,7 +16,7 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 
-from engine import State, mirror_state
+from engine import State, mirror_motor_actions, mirror_state
 from kinetix_cli.constants import NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS
 from kinetix_cli.env.environment import EnvState, KinetixEnv
 from kinetix_cli.env.level import Bindings, Level
@@ -60,7 +60,7 @@ def mirror_action(kind: str, action: jax.Array) -> jax.Array:
         return jnp.asarray(DISCRETE_MIRROR, jnp.int32)[jnp.asarray(action, jnp.int32)]
     if kind == "continuous":
         action = jnp.asarray(action, jnp.float32)
-        return action.at[..., :m].multiply(-1.0)
+        return action.at[..., :m].set(mirror_motor_actions(action[..., :m]))
     raise ValueError(f"unknown action type {kind!r}")
 
 
