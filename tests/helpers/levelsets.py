@@ -1,4 +1,5 @@
-"""A small level set written without compiling anything: shipped s levels stored through the level-set writer."""
+"""Small level sets: shipped s levels stored through the level-set writer (without compiling anything), and
+solved sets of them with their shipped solutions."""
 
 from __future__ import annotations
 
@@ -6,12 +7,16 @@ from collections.abc import Callable
 from pathlib import Path
 
 import jax
+import numpy as np
 
 from engine import SIZES
 from helpers.paths import LEVELS
+from kinetix_cli.env.episode import replay
+from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import stack_levels
 from kinetix_cli.levels.files import load_level
-from kinetix_cli.levels.levelset import generate_levelset
+from kinetix_cli.levels.levelset import SOLUTION_STEPS, Solutions, generate_levelset
+from kinetix_cli.levels.solution import SOLUTION_SETTINGS, decode_solution
 
 FILES = sorted((LEVELS / "s").glob("*.json"))[:6]
 
@@ -43,4 +48,31 @@ def small_levelset(
         settings={"source": "shipped s levels"},
         chunk_fn=chunk,
         shard_size=shard_size,
+    )
+
+
+def solved_levelset(out: Path, files: list[Path], unsolved: int = 0) -> dict:
+    """Write a solved set of the size-s level `files` with their shipped solutions (the last `unsolved` marked
+    unsolved, no-op actions) into `out`; returns its manifest. Lengths come from replaying the solutions."""
+    levels = jax.device_get(stack_levels([load_level(f).build(SIZES["s"]) for f in files]))
+    actions = np.stack([decode_solution(load_level(f).solution, str(f), SOLUTION_STEPS) for f in files])
+    env, params = make_env(SOLUTION_SETTINGS, SIZES["s"])
+    outcome = replay(env, params, levels, actions)
+    solved = np.asarray(outcome.solved) & (np.arange(len(files)) < len(files) - unsolved)
+    length = np.where(solved, np.asarray(outcome.length), 0).astype(np.int32)
+    actions = np.where(solved[:, None, None], actions, 0).astype(np.int8)
+    actions[np.arange(SOLUTION_STEPS)[None, :] >= length[:, None]] = 0
+    found = Solutions(actions, solved, length)
+
+    def chunk(i: int):
+        return levels, {"solved": int(solved.sum()), "unsolved": int((~solved).sum())}, found
+
+    return generate_levelset(
+        out,
+        size="s",
+        count=len(files),
+        seed=0,
+        settings={"source": "shipped solutions"},
+        chunk_fn=chunk,
+        solutions=True,
     )

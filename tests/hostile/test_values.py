@@ -86,6 +86,10 @@ BAD_SETTINGS = [
     ("curriculum.edits=0", "curriculum.edits: must be >= 1 and <= 100 (got 0)"),
     ("curriculum.buffer_share=0", "curriculum.buffer_share: must be > 0 and <= 1"),
     ("curriculum.name=sfl", None),  # with buffer_share 0.001 below: no environment starts from the buffer
+    ("clone.updates=5", "clone.updates: needs clone.levels (got 5)"),
+    ("clone.coef=-1", "clone.coef: must be >= 0 and <= 1000 (got -1.0)"),
+    ("clone.batch=0", "clone.batch: must be >= 1 and <= 65536 (got 0)"),
+    ("clone.levels=nowhere", "clone.levels: is unused unless clone.updates or clone.coef (got 'nowhere')"),
 ]
 
 

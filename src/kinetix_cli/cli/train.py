@@ -104,6 +104,10 @@ def _train_with_progress(experiment, run_dir: Path, resume: bool, init_params=No
 
         def report(r: dict) -> None:
             nonlocal last_eval, steps
+            if "clone_step" in r:  # behaviour cloning before PPO
+                info = f"cloning {r['clone_step']:,}/{r['clone_steps']:,}, loss {r['clone_loss']:.3f}"
+                bar.update(task, info=info + f", accuracy {r['clone_accuracy']:.0%}")
+                return
             steps = r["steps"]
             if "eval_solve_rate" in r:
                 last_eval = f", eval {r['eval_solve_rate']:.0%}"

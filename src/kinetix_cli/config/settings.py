@@ -410,6 +410,51 @@ class CurriculumSettings:
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
+class CloneSettings:
+    """Learning from solved levels (`rl.clone`): behaviour cloning of the solutions in a solved level set (`kinetix
+    levels solve`), before PPO and/or beside it. Each cloning step replays `batch` solved levels with their stored
+    actions (observations are replayed, not stored) and takes one Adam step on the mean negative log-likelihood of
+    those actions over the steps before each solve. Unsolved levels of the set are left out.
+
+    Attributes:
+        levels: the solved level set directory, or null (no cloning). Its levels may be of another size than
+            `env.size` when the observation plays every size (`symbolic-entity`); its solutions were found with
+            `env.frame_skip` 2 and multi-discrete actions, which the run must share.
+        updates: cloning steps before the first PPO update [steps] (a fresh Adam of `lr`; PPO then starts with a
+            fresh optimiser state). Counted in `run.minutes`.
+        coef: after every PPO update, one cloning step of this weight on the PPO optimiser (PPO with a cloning
+            loss, alternating); 0: none.
+        batch: solved levels replayed per cloning step (each drawn uniformly with replacement) [levels].
+        lr: learning rate of the cloning steps before PPO.
+    """
+
+    SECTION: ClassVar[str] = "clone"
+
+    levels: str | None = None
+    updates: int = 0
+    coef: float = 0.0
+    batch: int = 32
+    lr: float = 3e-4
+
+    def __post_init__(self):
+        check_types(self)
+        within(self, "updates", 0, 10**7)
+        within(self, "coef", 0.0, 1e3)
+        within(self, "batch", 1, 2**16)
+        within(self, "lr", 0.0, 1.0, low_excluded=True)
+        if self.levels is None:
+            require(self, "updates", self.updates == 0, "needs clone.levels")
+            require(self, "coef", self.coef == 0, "needs clone.levels")
+        else:
+            require(self, "levels", self.updates > 0 or self.coef > 0, "is unused unless clone.updates or clone.coef")
+
+    @property
+    def active(self) -> bool:
+        """Whether the run clones at all."""
+        return self.levels is not None
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
 class ExperimentConfig:
     """A whole experiment: one field per YAML section.
 
@@ -420,6 +465,7 @@ class ExperimentConfig:
         run: seed, checkpoints, evaluation and logging (`RunSettings`).
         levels: the training levels (`LevelSettings`).
         curriculum: which of them episodes start from (`CurriculumSettings`).
+        clone: behaviour cloning of solved levels (`CloneSettings`).
     """
 
     env: EnvSettings = dataclasses.field(default_factory=EnvSettings)
@@ -428,6 +474,7 @@ class ExperimentConfig:
     run: RunSettings = dataclasses.field(default_factory=RunSettings)
     levels: LevelSettings = dataclasses.field(default_factory=LevelSettings)
     curriculum: CurriculumSettings = dataclasses.field(default_factory=CurriculumSettings)
+    clone: CloneSettings = dataclasses.field(default_factory=CloneSettings)
 
     def __post_init__(self):
         check_types(self)
@@ -473,4 +520,5 @@ SECTIONS: dict[str, type] = {
     "run": RunSettings,
     "levels": LevelSettings,
     "curriculum": CurriculumSettings,
+    "clone": CloneSettings,
 }

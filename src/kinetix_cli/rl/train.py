@@ -9,6 +9,8 @@ A run directory holds:
   `eval_return` on `run.eval_levels` (each level's result in `evaluations/<update>.json`, as `kinetix eval
   --json` writes it); with a curriculum the buffer's size, mean score and solve-rate
   percentiles, and the steps spent scoring levels);
+- `clone.jsonl` (with `clone.updates`): one JSON object per behaviour-cloning step before PPO (`rl.clone`):
+  step, loss, accuracy, seconds;
 - `checkpoints/<update>/`: orbax checkpoints of the whole training state (`kinetix_cli.rl.checkpoints`), every
   `run.checkpoint_every` updates and at the end. `resume=True` continues from the latest one and, because the
   whole state is saved, reaches the same parameters as an uninterrupted run.
@@ -29,6 +31,7 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optax
 
 from kinetix_cli.config import (
     CONFIG_FILENAME,
@@ -62,6 +65,7 @@ from kinetix_cli.rl.checkpoints import (
     save_runner,
     writing,
 )
+from kinetix_cli.rl.clone import Demonstrations, clone_step, demonstration_env, load_demonstrations
 from kinetix_cli.rl.curricula import curriculum_class, make_curriculum
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import CRITIC, POLICY_HEAD, make_network, replace_subtrees, temper
@@ -70,6 +74,7 @@ from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer
 from kinetix_cli.rl.trees import tree_mismatch
 
 METRICS_FILE = "metrics.jsonl"
+CLONE_FILE = "clone.jsonl"
 VERSIONS_FILE = "versions.json"
 EVALUATIONS = "evaluations"
 """Folder of a run's evaluations during training: `<update>.json`, each as `kinetix eval --json` writes it."""
@@ -122,13 +127,14 @@ def train(
     # Everything that can fail on bad input happens before anything is written: a failed start leaves no debris.
     mesh = make_mesh(devices)
     _check_split(config, mesh)
+    demos = load_demonstrations(config) if config.clone.active else None
     if pool is None:  # each process generates a pool on its own devices: the same levels in every process
         pool = level_pool(config, make_mesh(devices, local_only=True))
     with using(mesh):
-        return _train(config, run_dir, resume, progress, pool, init_params, mesh, devices)
+        return _train(config, run_dir, resume, progress, pool, init_params, mesh, devices, demos)
 
 
-def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh, devices) -> Runner:
+def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mesh, devices, demos) -> Runner:
     saved = run_dir / CONFIG_FILENAME
     evaluator = _evaluator(config, devices)
     pool = None if pool is None else replicate(pool, mesh)
@@ -136,6 +142,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     env, env_params = make_env(config.env, pairs=config.model.reads_pairs)
     env_params = replicate(env_params, mesh)
     network = make_network(config.model, config.env)
+    cloning = None if demos is None else _Cloning(config, *demos, mesh, network)
     settings = config.ppo
     curriculum = make_curriculum(config.curriculum, env=env, network=network, ppo=settings, fresh=fresh)
     key = replicate(jax.random.key(config.run.seed), mesh)
@@ -176,6 +183,10 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     trained = _trained_seconds(run_dir / METRICS_FILE, settings) if start and primary else 0.0
     spent = bool(budget) and primary_decides("budget", trained >= budget)  # a resumed run that had used it up
     solved = _solved_episodes(run_dir / METRICS_FILE) if start and primary else 0.0
+    if cloning is not None and config.clone.updates:
+        if start == 0:  # behaviour cloning first (an interrupted run clones again: the same steps, from its seed)
+            runner = cloning.before_ppo(runner, key, run_dir / CLONE_FILE if primary else None, progress)
+        trained += _trained_seconds(run_dir / CLONE_FILE, None) if primary else 0.0
     with log, writing(manager):
         for u in range(start, start if spent else settings.num_updates):
             tic = time.perf_counter()
@@ -184,6 +195,9 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
                 pool = replicate(level_pool(config, make_mesh(devices, local_only=True), pool_round), mesh)
             runner = curriculum.before_update(runner, env_params, pool, _scoring_key(key, u), u)
             runner, metrics = curriculum.update(runner, env_params, pool)
+            if cloning is not None and config.clone.coef:
+                runner, cloned = cloning.beside_ppo(runner, _cloning_key(key, u))
+                metrics |= cloned
             metrics = curriculum.logged({k: float(v) for k, v in jax.device_get(metrics).items()})
             seconds = time.perf_counter() - tic
             steps = (u + 1) * settings.batch_size
@@ -254,6 +268,8 @@ def _write_failed(run_dir: Path, update: int, exc: Exception, kept: int | None) 
 def _check_split(config: ExperimentConfig, mesh) -> None:
     """One clear line unless every batch the run splits across devices splits evenly."""
     check_divisible(config.ppo.num_envs, mesh, "ppo.num_envs")
+    if config.clone.active:
+        check_divisible(config.clone.batch, mesh, "clone.batch")
     curriculum_class(config.curriculum).check_split(config.curriculum, mesh)
 
 
@@ -300,6 +316,66 @@ def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings
         for name in CRITIC:
             params = replace_subtrees(params, runner.params, name)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
+
+
+class _Cloning:
+    """A run's behaviour cloning (`rl.clone`): the demonstrations on the device and their environment."""
+
+    def __init__(self, config: ExperimentConfig, demos: Demonstrations, size: str, mesh, network):
+        self.config, self.network = config, network
+        self.demos = replicate(demos, mesh)
+        env, env_params = demonstration_env(config, size)
+        self.env, self.env_params = env, replicate(env_params, mesh)
+
+    def _step(self, params, opt_state, key, optimizer, coef: float):
+        settings = self.config.clone
+        return clone_step(
+            params,
+            opt_state,
+            self.env_params,
+            self.demos,
+            key,
+            env=self.env,
+            network=self.network,
+            optimizer=optimizer,
+            count=settings.batch,
+            coef=coef,
+        )
+
+    def before_ppo(self, runner: Runner, run_key: jax.Array, log: Path | None, progress) -> Runner:
+        """`clone.updates` cloning steps with an Adam of their own from the runner's parameters; PPO then starts
+        with a fresh optimiser state. Each step's record goes to `log` (written once, at the end) and `progress`."""
+        settings = self.config.clone
+        optimizer = optax.chain(
+            optax.clip_by_global_norm(self.config.ppo.max_grad_norm), optax.adam(settings.lr, eps=1e-5)
+        )
+        params, opt_state, records = runner.params, optimizer.init(runner.params), []
+        for step in range(settings.updates):
+            tic = time.perf_counter()
+            key = jax.random.fold_in(jax.random.fold_in(run_key, 3), step)
+            params, opt_state, metrics = self._step(params, opt_state, key, optimizer, 1.0)
+            metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
+            record = {"clone_step": step + 1, "clone_steps": settings.updates, **metrics}
+            records.append(record | {"seconds": time.perf_counter() - tic})
+            if progress is not None and log is not None:
+                progress(record)
+        if log is not None:
+            try:
+                atomic_write_text(log, "".join(json.dumps(r) + "\n" for r in records))
+            except OSError as exc:
+                raise UserError(f"{log}: cannot write: {exc.strerror or exc}") from None
+        return runner.replace(params=params, opt_state=make_optimizer(self.config.ppo).init(params)).placed()
+
+    def beside_ppo(self, runner: Runner, key: jax.Array) -> tuple[Runner, dict]:
+        """One cloning step of weight `clone.coef` on the PPO optimiser, and its metrics (device scalars)."""
+        optimizer = make_optimizer(self.config.ppo)
+        params, opt_state, metrics = self._step(runner.params, runner.opt_state, key, optimizer, self.config.clone.coef)
+        return runner.replace(params=params, opt_state=opt_state).placed(), metrics
+
+
+def _cloning_key(run_key: jax.Array, update: int) -> jax.Array:
+    """The key of the cloning step after `update`: a stream of its own, a function of the update only."""
+    return jax.random.fold_in(jax.random.fold_in(run_key, 2), update)
 
 
 def _scoring_key(run_key: jax.Array, update: int) -> jax.Array:
@@ -365,7 +441,10 @@ def _logged(path: Path) -> list[dict]:
 
 def _trained_seconds(path: Path, settings) -> float:
     """Training time of the updates logged in `metrics.jsonl` [s], rebuilt from each one's steps per second (what
-    `run.minutes` counts, the first update's compile included; a resumed run goes on from it)."""
+    `run.minutes` counts, the first update's compile included; a resumed run goes on from it); with `settings`
+    None, of the cloning steps logged in `clone.jsonl`."""
+    if settings is None:
+        return sum(record["seconds"] for record in _logged(path))
     return sum(settings.batch_size / record["sps"] for record in _logged(path))
 
 

@@ -1,0 +1,112 @@
+"""Behaviour cloning of solved levels: the replayed demonstrations are the solutions' own episodes, cloning steps
+make the stored actions the policy's, a bad solved set is one clear line, and a run clones before PPO and beside
+it, resumably."""
+
+from __future__ import annotations
+
+import json
+
+import jax
+import numpy as np
+import optax
+import pytest
+
+from helpers.levelsets import small_levelset, solved_levelset
+from helpers.paths import LEVELS
+from helpers.runs import tiny_config
+from kinetix_cli.config import ConfigError
+from kinetix_cli.errors import UserError
+from kinetix_cli.rl.agents import load_policy
+from kinetix_cli.rl.clone import clone_step, demonstration_env, load_demonstrations, replay_observations
+from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.pool import level_pool
+from kinetix_cli.rl.train import train
+
+FILES = [LEVELS / "s" / "rocket-car-jump.json", LEVELS / "s" / "pad-to-pad.json", LEVELS / "s" / "jet-ball-hop.json"]
+CLONE = ["env.frame_skip=2"]  # solutions are played at the default frame skip; the tiny run's is 4
+
+
+@pytest.fixture(scope="module")
+def solved_set(tmp_path_factory):
+    """Three shipped s levels with their solutions, the last marked unsolved."""
+    out = tmp_path_factory.mktemp("solved") / "set"
+    solved_levelset(out, FILES, unsolved=1)
+    return out
+
+
+def clone_config(solved_set, *overrides):
+    return tiny_config(*CLONE, f"clone.levels={solved_set}", *overrides)
+
+
+def test_demonstrations_are_the_solved_levels_replayed_with_their_actions(solved_set):
+    demos, size = load_demonstrations(clone_config(solved_set, "clone.updates=1"))
+    assert size == "s" and demos.length.shape == (2,)  # the unsolved level is left out
+    env, params = demonstration_env(clone_config(solved_set, "clone.updates=1"), size)
+    observations, actions, valid = replay_observations(env, params, demos, jax.random.key(0), 8)
+    rows = [int(np.flatnonzero((demos.actions == np.swapaxes(actions, 0, 1)[i]).all((1, 2)))[0]) for i in range(8)]
+    np.testing.assert_array_equal(valid.sum(0), np.asarray(demos.length)[rows])  # the steps before each solve
+    first = jax.vmap(env.observe)(
+        jax.vmap(env.initial_state)(jax.tree.map(lambda x: x[np.asarray(rows)], demos.levels))
+    )
+    jax.tree.map(lambda a, b: np.testing.assert_allclose(a[0], b, rtol=0, atol=1e-6), observations, first)
+
+
+def test_cloning_steps_make_the_stored_actions_likely(solved_set):
+    config = clone_config(solved_set, "clone.updates=1")
+    demos, size = load_demonstrations(config)
+    env, params = demonstration_env(config, size)
+    network = make_network(config.model, config.env)
+    observations, _, _ = replay_observations(env, params, demos, jax.random.key(0), 2)
+    weights = network.init(jax.random.key(1), jax.tree.map(lambda x: x[0], observations))
+    optimizer = optax.adam(3e-3)
+    state, losses = optimizer.init(weights), []
+    for step in range(40):
+        key = jax.random.key(step)
+        weights, state, metrics = clone_step(
+            weights, state, params, demos, key, env=env, network=network, optimizer=optimizer, count=4
+        )
+        losses.append(float(metrics["clone_loss"]))
+    assert losses[-1] < 0.5 * losses[0], losses  # the negative log-likelihood of the solutions falls
+
+
+def test_a_set_that_cannot_be_cloned_is_one_clear_line(solved_set, tmp_path):
+    with pytest.raises(ConfigError, match="clone.updates: needs clone.levels"):
+        tiny_config("clone.updates=3")
+    with pytest.raises(ConfigError, match="clone.levels: is unused unless"):
+        tiny_config(f"clone.levels={solved_set}")
+    with pytest.raises(UserError, match="clone.levels: solutions are played with env.frame_skip 2; this run has 4"):
+        load_demonstrations(tiny_config(f"clone.levels={solved_set}", "clone.updates=1"))
+    small_levelset(tmp_path / "plain")
+    with pytest.raises(UserError, match="holds no solutions; write a solved set with kinetix levels solve"):
+        load_demonstrations(clone_config(tmp_path / "plain", "clone.updates=1"))
+    solved_levelset(tmp_path / "none", FILES[:1], unsolved=1)
+    with pytest.raises(UserError, match="no level of the set is solved"):
+        load_demonstrations(clone_config(tmp_path / "none", "clone.updates=1"))
+
+
+class Crash(Exception):
+    pass
+
+
+@pytest.mark.slow
+def test_a_run_clones_before_and_beside_ppo_and_resumes_bit_for_bit(solved_set, tmp_path):
+    config = clone_config(solved_set, "clone.updates=3", "clone.coef=0.5", "clone.batch=2")
+    pool = level_pool(config)
+    whole = train(config, tmp_path / "whole", pool=pool)
+    records = [json.loads(line) for line in (tmp_path / "whole" / "clone.jsonl").read_text().splitlines()]
+    assert [r["clone_step"] for r in records] == [1, 2, 3] and all(r["seconds"] > 0 for r in records)
+    lines = [json.loads(line) for line in (tmp_path / "whole" / "metrics.jsonl").read_text().splitlines()]
+    assert all(np.isfinite(line["clone_loss"]) for line in lines) and len(lines) == 6
+
+    def crash_after_3(record):
+        if record.get("update") == 3:
+            raise Crash
+
+    with pytest.raises(Crash):
+        train(config, tmp_path / "cut", pool=pool, progress=crash_after_3)
+    resumed = train(config, tmp_path / "cut", resume=True, pool=pool)
+    jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
+    jax.tree.map(np.testing.assert_array_equal, load_policy(tmp_path / "whole").params, whole.params)
+    plain = train(tiny_config(*CLONE), tmp_path / "plain", pool=pool)  # cloning changed the parameters
+    pairs = zip(jax.tree.leaves(plain.params), jax.tree.leaves(whole.params), strict=True)
+    assert any(not np.array_equal(a, b) for a, b in pairs)
