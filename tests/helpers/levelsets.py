@@ -27,10 +27,11 @@ def small_levelset(
     files: list[Path] = FILES,
     per_chunk: int | None = None,
     before_chunk: Callable[[int], None] | None = None,
+    solutions: Solutions | None = None,
 ) -> dict:
     """Write a set of the size-s level `files` (default: 6 shipped levels; shards of `shard_size`) into `out`;
     returns its manifest. The levels come in one chunk, or `per_chunk` at a time; `before_chunk(i)` runs before
-    chunk i is handed over (to fail the writes from there on)."""
+    chunk i is handed over (to fail the writes from there on). With `solutions` (one row per file) a solved set."""
     levels = jax.device_get(stack_levels([load_level(f).build(SIZES["s"]) for f in files]))
     step = per_chunk or len(files)
 
@@ -38,7 +39,11 @@ def small_levelset(
         if before_chunk is not None:
             before_chunk(i)
         rows = slice(i * step, (i + 1) * step)
-        return jax.tree.map(lambda x: x[rows], levels), {"sampled": step}
+        if solutions is None:
+            return jax.tree.map(lambda x: x[rows], levels), {"sampled": step}
+        found = Solutions(*(x[rows] for x in (solutions.actions, solutions.solved, solutions.length)))
+        stats = {"solved": int(found.solved.sum()), "unsolved": int((~found.solved).sum())}
+        return jax.tree.map(lambda x: x[rows], levels), stats, found
 
     return generate_levelset(
         out,
@@ -48,6 +53,7 @@ def small_levelset(
         settings={"source": "shipped s levels"},
         chunk_fn=chunk,
         shard_size=shard_size,
+        solutions=solutions is not None,
     )
 
 
@@ -62,17 +68,4 @@ def solved_levelset(out: Path, files: list[Path], unsolved: int = 0) -> dict:
     length = np.where(solved, np.asarray(outcome.length), 0).astype(np.int32)
     actions = np.where(solved[:, None, None], actions, 0).astype(np.int8)
     actions[np.arange(SOLUTION_STEPS)[None, :] >= length[:, None]] = 0
-    found = Solutions(actions, solved, length)
-
-    def chunk(i: int):
-        return levels, {"solved": int(solved.sum()), "unsolved": int((~solved).sum())}, found
-
-    return generate_levelset(
-        out,
-        size="s",
-        count=len(files),
-        seed=0,
-        settings={"source": "shipped solutions"},
-        chunk_fn=chunk,
-        solutions=True,
-    )
+    return small_levelset(out, files=files, solutions=Solutions(actions, solved, length))
