@@ -11,6 +11,9 @@ actuator of the level uses count in neither.
 from __future__ import annotations
 
 import functools
+import json
+import time
+from pathlib import Path
 
 import flax.linen as nn
 import jax
@@ -24,9 +27,11 @@ from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, index_level, to_device
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import atomic_write_text
 from kinetix_cli.levels.levelset import load_levelset
 from kinetix_cli.levels.solution import SOLUTION_SETTINGS
-from kinetix_cli.parallel import batch_sharded
+from kinetix_cli.parallel import batch_sharded, replicate
+from kinetix_cli.rl.ppo import Runner, make_optimizer
 
 CLONE_METRICS = ("clone_loss", "clone_accuracy")
 """What a cloning step measures: the loss, and the share of steps whose most likely action is the stored one."""
@@ -126,3 +131,60 @@ def clone_step(
     grads, metrics = jax.grad(loss, has_aux=True)(params)
     updates, opt_state = optimizer.update(grads, opt_state, params)
     return optax.apply_updates(params, updates), opt_state, metrics
+
+
+class Cloning:
+    """A training run's behaviour cloning: the demonstrations on the device (replicated over `mesh`), their
+    environment, and the steps before and beside PPO."""
+
+    def __init__(self, config: ExperimentConfig, demos: Demonstrations, size: str, mesh, network):
+        self.config, self.network = config, network
+        self.demos = replicate(demos, mesh)
+        env, env_params = demonstration_env(config, size)
+        self.env, self.env_params = env, replicate(env_params, mesh)
+        self.ppo_optimizer = make_optimizer(config.ppo)  # one object: a static argument of the jitted step
+
+    def _step(self, params, opt_state, key, optimizer, coef: float):
+        settings = self.config.clone
+        return clone_step(
+            params,
+            opt_state,
+            self.env_params,
+            self.demos,
+            key,
+            env=self.env,
+            network=self.network,
+            optimizer=optimizer,
+            count=settings.batch,
+            coef=coef,
+        )
+
+    def before_ppo(self, runner: Runner, run_key: jax.Array, log: Path | None, progress) -> Runner:
+        """`clone.updates` cloning steps with an Adam of their own from the runner's parameters; PPO then starts
+        with a fresh optimiser state. Each step's record goes to `log` (written once, at the end) and `progress`."""
+        settings = self.config.clone
+        optimizer = optax.chain(
+            optax.clip_by_global_norm(self.config.ppo.max_grad_norm), optax.adam(settings.lr, eps=1e-5)
+        )
+        params, opt_state, records = runner.params, optimizer.init(runner.params), []
+        for step in range(settings.updates):
+            tic = time.perf_counter()
+            key = jax.random.fold_in(jax.random.fold_in(run_key, 3), step)
+            params, opt_state, metrics = self._step(params, opt_state, key, optimizer, 1.0)
+            metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
+            record = {"clone_step": step + 1, "clone_steps": settings.updates, **metrics}
+            records.append(record | {"seconds": time.perf_counter() - tic})
+            if progress is not None and log is not None:
+                progress(record)
+        if log is not None:
+            try:
+                atomic_write_text(log, "".join(json.dumps(r) + "\n" for r in records))
+            except OSError as exc:
+                raise UserError(f"{log}: cannot write: {exc.strerror or exc}") from None
+        return runner.replace(params=params, opt_state=make_optimizer(self.config.ppo).init(params)).placed()
+
+    def beside_ppo(self, runner: Runner, key: jax.Array) -> tuple[Runner, dict]:
+        """One cloning step of weight `clone.coef` on the PPO optimiser, and its metrics (device scalars)."""
+        coef = self.config.clone.coef
+        params, opt_state, metrics = self._step(runner.params, runner.opt_state, key, self.ppo_optimizer, coef)
+        return runner.replace(params=params, opt_state=opt_state).placed(), metrics

@@ -31,7 +31,6 @@ from pathlib import Path
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optax
 
 from kinetix_cli.config import (
     CONFIG_FILENAME,
@@ -65,7 +64,7 @@ from kinetix_cli.rl.checkpoints import (
     save_runner,
     writing,
 )
-from kinetix_cli.rl.clone import Demonstrations, clone_step, demonstration_env, load_demonstrations
+from kinetix_cli.rl.clone import Cloning, load_demonstrations
 from kinetix_cli.rl.curricula import curriculum_class, make_curriculum
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
 from kinetix_cli.rl.networks import CRITIC, POLICY_HEAD, make_network, replace_subtrees, temper
@@ -142,7 +141,7 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     env, env_params = make_env(config.env, pairs=config.model.reads_pairs)
     env_params = replicate(env_params, mesh)
     network = make_network(config.model, config.env)
-    cloning = None if demos is None else _Cloning(config, *demos, mesh, network)
+    cloning = None if demos is None else Cloning(config, *demos, mesh, network)
     settings = config.ppo
     curriculum = make_curriculum(config.curriculum, env=env, network=network, ppo=settings, fresh=fresh)
     key = replicate(jax.random.key(config.run.seed), mesh)
@@ -316,61 +315,6 @@ def _with_params(runner: Runner, params, settings, origin: str, run: RunSettings
         for name in CRITIC:
             params = replace_subtrees(params, runner.params, name)
     return runner.replace(params=params, opt_state=make_optimizer(settings).init(params))
-
-
-class _Cloning:
-    """A run's behaviour cloning (`rl.clone`): the demonstrations on the device and their environment."""
-
-    def __init__(self, config: ExperimentConfig, demos: Demonstrations, size: str, mesh, network):
-        self.config, self.network = config, network
-        self.demos = replicate(demos, mesh)
-        env, env_params = demonstration_env(config, size)
-        self.env, self.env_params = env, replicate(env_params, mesh)
-
-    def _step(self, params, opt_state, key, optimizer, coef: float):
-        settings = self.config.clone
-        return clone_step(
-            params,
-            opt_state,
-            self.env_params,
-            self.demos,
-            key,
-            env=self.env,
-            network=self.network,
-            optimizer=optimizer,
-            count=settings.batch,
-            coef=coef,
-        )
-
-    def before_ppo(self, runner: Runner, run_key: jax.Array, log: Path | None, progress) -> Runner:
-        """`clone.updates` cloning steps with an Adam of their own from the runner's parameters; PPO then starts
-        with a fresh optimiser state. Each step's record goes to `log` (written once, at the end) and `progress`."""
-        settings = self.config.clone
-        optimizer = optax.chain(
-            optax.clip_by_global_norm(self.config.ppo.max_grad_norm), optax.adam(settings.lr, eps=1e-5)
-        )
-        params, opt_state, records = runner.params, optimizer.init(runner.params), []
-        for step in range(settings.updates):
-            tic = time.perf_counter()
-            key = jax.random.fold_in(jax.random.fold_in(run_key, 3), step)
-            params, opt_state, metrics = self._step(params, opt_state, key, optimizer, 1.0)
-            metrics = {k: float(v) for k, v in jax.device_get(metrics).items()}
-            record = {"clone_step": step + 1, "clone_steps": settings.updates, **metrics}
-            records.append(record | {"seconds": time.perf_counter() - tic})
-            if progress is not None and log is not None:
-                progress(record)
-        if log is not None:
-            try:
-                atomic_write_text(log, "".join(json.dumps(r) + "\n" for r in records))
-            except OSError as exc:
-                raise UserError(f"{log}: cannot write: {exc.strerror or exc}") from None
-        return runner.replace(params=params, opt_state=make_optimizer(self.config.ppo).init(params)).placed()
-
-    def beside_ppo(self, runner: Runner, key: jax.Array) -> tuple[Runner, dict]:
-        """One cloning step of weight `clone.coef` on the PPO optimiser, and its metrics (device scalars)."""
-        optimizer = make_optimizer(self.config.ppo)
-        params, opt_state, metrics = self._step(runner.params, runner.opt_state, key, optimizer, self.config.clone.coef)
-        return runner.replace(params=params, opt_state=opt_state).placed(), metrics
 
 
 def _cloning_key(run_key: jax.Array, update: int) -> jax.Array:

@@ -14,10 +14,12 @@ import pytest
 from helpers.levelsets import small_levelset, solved_levelset
 from helpers.paths import LEVELS
 from helpers.runs import tiny_config
+from helpers.traces import traces
 from kinetix_cli.config import ConfigError
 from kinetix_cli.errors import UserError
+from kinetix_cli.parallel import make_mesh
 from kinetix_cli.rl.agents import load_policy
-from kinetix_cli.rl.clone import clone_step, demonstration_env, load_demonstrations, replay_observations
+from kinetix_cli.rl.clone import Cloning, clone_step, demonstration_env, load_demonstrations, replay_observations
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
@@ -107,6 +109,11 @@ def test_a_run_clones_before_and_beside_ppo_and_resumes_bit_for_bit(solved_set, 
     resumed = train(config, tmp_path / "cut", resume=True, pool=pool)
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, load_policy(tmp_path / "whole").params, whole.params)
+    cloning = Cloning(config, *load_demonstrations(config), make_mesh(None), make_network(config.model, config.env))
+    cloning.beside_ppo(whole, jax.random.key(0))
+    with traces() as traced:  # every update's cloning step shares one compile
+        cloning.beside_ppo(whole, jax.random.key(1))
+    assert traced[0] == 0
     plain = train(tiny_config(*CLONE), tmp_path / "plain", pool=pool)  # cloning changed the parameters
     pairs = zip(jax.tree.leaves(plain.params), jax.tree.leaves(whole.params), strict=True)
     assert any(not np.array_equal(a, b) for a, b in pairs)
