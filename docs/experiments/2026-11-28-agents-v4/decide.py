@@ -27,7 +27,7 @@ def mean(record: dict, size: str | None) -> float:
 
 def main() -> None:
     records = {
-        (r, s): json.loads((FOLDER / f"zero-shot-{r}-{s}.json").read_text())["zero_shot"]
+        (r, s): json.loads((FOLDER / f"zero-shot-{r}-{s}.json").read_text())
         for r in RECIPES
         for s in SEEDS
     }
