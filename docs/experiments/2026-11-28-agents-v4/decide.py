@@ -26,11 +26,7 @@ def mean(record: dict, size: str | None) -> float:
 
 
 def main() -> None:
-    records = {
-        (r, s): json.loads((FOLDER / f"zero-shot-{r}-{s}.json").read_text())
-        for r in RECIPES
-        for s in SEEDS
-    }
+    records = {(r, s): json.loads((FOLDER / f"zero-shot-{r}-{s}.json").read_text()) for r in RECIPES for s in SEEDS}
     print("| recipe | seed | all 180 | s (50) | m (60) | l (70) |")
     print("|---|---|---|---|---|---|")
     for (recipe, seed), record in records.items():
