@@ -179,13 +179,15 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     kept = start or None  # the last complete checkpoint
     pool_every, pool_round = config.levels.refresh_every, 0
     budget = config.run.minutes * 60  # 0: none; the primary's clock decides for every process
-    trained = _trained_seconds(run_dir / METRICS_FILE, settings) if start and primary else 0.0
+    trained = (
+        _trained_seconds(run_dir / METRICS_FILE, settings) + _cloned_seconds(run_dir) if start and primary else 0.0
+    )
     spent = bool(budget) and primary_decides("budget", trained >= budget)  # a resumed run that had used it up
     solved = _solved_episodes(run_dir / METRICS_FILE) if start and primary else 0.0
-    if cloning is not None and config.clone.updates:
-        if start == 0:  # behaviour cloning first (an interrupted run clones again: the same steps, from its seed)
-            runner = cloning.before_ppo(runner, key, run_dir / CLONE_FILE if primary else None, progress)
-        trained += _trained_seconds(run_dir / CLONE_FILE, None) if primary else 0.0
+    if cloning is not None and config.clone.updates and start == 0:  # behaviour cloning first (an interrupted run
+        # clones again: the same steps, from its seed); its time counts in run.minutes
+        runner = cloning.before_ppo(runner, key, run_dir / CLONE_FILE if primary else None, progress)
+        trained += _cloned_seconds(run_dir) if primary else 0.0
     with log, writing(manager):
         for u in range(start, start if spent else settings.num_updates):
             tic = time.perf_counter()
@@ -385,11 +387,13 @@ def _logged(path: Path) -> list[dict]:
 
 def _trained_seconds(path: Path, settings) -> float:
     """Training time of the updates logged in `metrics.jsonl` [s], rebuilt from each one's steps per second (what
-    `run.minutes` counts, the first update's compile included; a resumed run goes on from it); with `settings`
-    None, of the cloning steps logged in `clone.jsonl`."""
-    if settings is None:
-        return sum(record["seconds"] for record in _logged(path))
+    `run.minutes` counts, the first update's compile included; a resumed run goes on from it)."""
     return sum(settings.batch_size / record["sps"] for record in _logged(path))
+
+
+def _cloned_seconds(run_dir: Path) -> float:
+    """Time of the behaviour-cloning steps before PPO logged in the run's `clone.jsonl` [s] (0 without)."""
+    return sum(record["seconds"] for record in _logged(run_dir / CLONE_FILE))
 
 
 def _solved_episodes(path: Path) -> float:
