@@ -1,7 +1,8 @@
 """The trained-equivariance table: per arm (plain: the batch-scale study's 256 arm at 3M env steps; geometric:
 model.mirror) and seed, the validation mean (all 180, per size), the plain runs' gap to the mirror images, the test
 mean (the paper's 74 levels, read after the decision), training wall time; per arm mean and standard deviation over
-seeds 0-2, and over seeds 0-3 once the fresh clone's seed 3 (`seed3.sh`) is recorded. Run from the repository root."""
+seeds 0-2, and over seeds 0-3 once the fresh clone's seed 3 (`seed3.sh`) is recorded. Then the same at equal
+wall-clock (10 minutes of training each). Run from the repository root."""
 
 from __future__ import annotations
 
@@ -63,6 +64,33 @@ def main() -> None:
             print(f"{arm}, {'seeds 0-3' if with_fourth else 'seeds 0-2'}: {spread(values)}")
     for arm, values in tests.items():
         print(f"test, {arm}: {spread(values)}")
+    wall_clock()
+
+
+def wall_clock() -> None:
+    """The equal-wall-clock table (10 minutes of training; the batch-scale study's part 2 ran both arms)."""
+    print("\n| arm, 10 minutes | seed | env steps | all 180 | s | m | l | test, all 74 |")
+    print("|---|---|---|---|---|---|---|---|")
+    means: dict[str, list[float]] = {}
+    for arm, stem in (("plain", "minutes-256"), ("geometric", "minutes-mirror")):
+        for seed in (0, 1, 2):
+            record = BASE / f"{stem}-{seed}.json"
+            if not record.is_file():
+                continue
+            result = rates(record)
+            sizes = " | ".join(
+                f"{100 * statistics.mean(v for (z, _), v in result.items() if z == size):.1f}%" for size in "sml"
+            )
+            lines = (BASE / f"{stem}-{seed}.metrics.jsonl").read_text().splitlines()
+            steps = json.loads(lines[-1])["steps"] / 1e6
+            test = BASE / f"test-{stem}-{seed}.json"
+            test_mean = f"{100 * statistics.mean(rates(test).values()):.1f}%" if test.is_file() else ""
+            total = 100 * statistics.mean(result.values())
+            means.setdefault(arm, []).append(total)
+            print(f"| {arm} | {seed} | {steps:.2f}M | {total:.1f}% | {sizes} | {test_mean} |")
+    print()
+    for arm, values in means.items():
+        print(f"{arm}, 10 minutes: {spread(values)}")
 
 
 if __name__ == "__main__":
