@@ -43,8 +43,26 @@ def summary(out: Path) -> str:
         lines.append(
             f"| {r['model']} | {r['envs']:,} | {r['parameters']:,} | {r['compile_s']:.1f} | {r['steps_per_s']:,.0f} |"
         )
-    lines += ["", *_sfl(out / "sfl")]
+    lines += ["", *_paper(engine, _read(out / "train-m-paper.json"))]
+    if (out / "sfl").is_dir():
+        lines += ["", *_sfl(out / "sfl")]
     return "\n".join(lines)
+
+
+PAPER = {"engine": (16_384, 9.0e6), "train": (32_768, 824e3)}
+"""The paper's speed figures at size m on an L40S: (envs, steps/s) of its engine and of its RL loop (transformer)."""
+
+
+def _paper(engine: dict, train: dict) -> list[str]:
+    """Our engine and transformer PPO beside the paper's figures, at the largest sizes measured."""
+    ours = max((r for r in engine["results"] if r["engine"] == "kinetix"), key=lambda r: r["envs"])
+    ppo = max((r for r in train["results"] if r["model"] == "transformer"), key=lambda r: r["envs"])
+    rows = [("engine", ours, PAPER["engine"]), ("PPO, transformer", ppo, PAPER["train"])]
+    lines = ["| at the paper's sizes, m | our envs | our steps/s | paper's envs | paper's steps/s (L40S) |"]
+    lines.append("| --- | ---: | ---: | ---: | ---: |")
+    for name, r, (envs, rate) in rows:
+        lines.append(f"| {name} | {r['envs']:,} | {r['steps_per_s']:,.0f} | {envs:,} | {rate:,.0f} |")
+    return lines
 
 
 def _sfl(run: Path) -> list[str]:

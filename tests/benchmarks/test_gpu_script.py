@@ -15,19 +15,33 @@ from helpers.paths import REPO
 pytestmark = pytest.mark.slow
 
 
-def test_gpu_script_runs_at_tiny_sizes(tmp_path):
+def run_script(out: Path, **settings: str) -> subprocess.CompletedProcess:
     bin_dir = Path(sys.executable).parent
-    env = dict(os.environ, TINY="1", KINETIX=str(bin_dir / "kinetix"), PYTHON=sys.executable, EVAL_LEVELS="levels/s")
+    env = dict(os.environ, TINY="1", KINETIX=str(bin_dir / "kinetix"), PYTHON=sys.executable, **settings)
     done = subprocess.run(
-        [REPO / "benchmarks" / "gpu.sh", tmp_path], cwd=REPO, env=env, capture_output=True, text=True, timeout=1200
+        [REPO / "benchmarks" / "gpu.sh", out], cwd=REPO, env=env, capture_output=True, text=True, timeout=1200
     )
     assert done.returncode == 0, done.stderr[-3000:]
-    engine = json.loads((tmp_path / "engine-m.json").read_text())
+    engine = json.loads((out / "engine-m.json").read_text())
     assert {r["engine"] for r in engine["results"]} == {"kinetix", "jax2d"}
-    train = json.loads((tmp_path / "train-m.json").read_text())
+    train = json.loads((out / "train-m.json").read_text())
     assert [r["model"] for r in train["results"]] == ["pi-mlp", "transformer"]
-    assert all(r["steps_per_s"] > 0 for r in engine["results"] + train["results"])
+    paper = json.loads((out / "train-m-paper.json").read_text())
+    assert [(r["model"], r["envs"]) for r in paper["results"]] == [("transformer", 16)]
+    assert all(r["steps_per_s"] > 0 for r in engine["results"] + train["results"] + paper["results"])
+    for heading in ("| engine, size m |", "| model | envs |", "| at the paper's sizes, m |"):
+        assert heading in done.stdout
+    return done
+
+
+def test_gpu_script_runs_at_tiny_sizes(tmp_path):
+    done = run_script(tmp_path, EVAL_LEVELS="levels/s")
     evaluation = json.loads((tmp_path / "sfl" / "eval.json").read_text())
     assert evaluation["attempts"] == 2 and evaluation["suites"]["levels/s"]["levels"] > 0
-    for heading in ("| engine, size m |", "| model | envs |", "| SFL, transformer, size s |"):
-        assert heading in done.stdout
+    assert "| SFL, transformer, size s |" in done.stdout
+
+
+def test_gpu_script_leaves_sfl_out_at_zero_seconds(tmp_path):
+    done = run_script(tmp_path, SFL_SECONDS="0")
+    assert not (tmp_path / "sfl").exists()
+    assert "| SFL, transformer, size s |" not in done.stdout
