@@ -14,13 +14,15 @@ fi
 solver=$(python3 -c "print(sum(float(open(f'$out/{n}.time').read().split()[0]) for n in ('generate', 'solve')) / 60)")
 budget=$(python3 -c "print(round(30 - $solver, 2))")
 echo "solver ${solver} min; cloning runs get ${budget} min"
-for arm in ${ARMS:-P C L}; do
-  case $arm in
-    P) extra=(--set run.minutes=30) ;;
-    C) extra=(--set clone.levels=runs/clone/solved-s --set clone.updates=200 --set clone.batch=32 --set run.minutes=$budget) ;;
-    L) extra=(--set clone.levels=runs/clone/solved-s --set clone.coef=1.0 --set clone.batch=32 --set run.minutes=$budget) ;;
-  esac
-  for seed in 0 1 2; do
+# Seed by seed (P, C, L for seed 0, then seed 1, ...), so that a session that stops part way has compared arms.
+for seed in ${SEEDS:-0 1 2}; do
+  for arm in ${ARMS:-P C L}; do
+    case $arm in
+      P) extra=(--set run.minutes=30) ;;
+      C) extra=(--set clone.levels=runs/clone/solved-s --set clone.updates=200 --set clone.batch=32 --set run.minutes=$budget) ;;
+      L) extra=(--set clone.levels=runs/clone/solved-s --set clone.coef=1.0 --set clone.batch=32 --set run.minutes=$budget) ;;
+    esac
+    [ ! -f runs/clone/STOP ] || { echo "runs/clone/STOP found: stopping before $arm seed $seed"; exit 0; }
     run=runs/clone/$arm-$seed
     if [ ! -f "$run/done" ]; then
       rm -rf "$run"
