@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Solved level sets of every size (issue 48, lever 2's data): 1,024 generated levels of s, m and l each, searched by
+# the batched solver, written to runs/solved-sets/{s,m,l}. Run from the repository root, alone on the machine (the
+# times are the record). Resumable: generate and solve both resume a killed folder; a finished step is kept.
+set -euo pipefail
+out=docs/experiments/2026-11-29-solved-sets
+kinetix=.venv/bin/kinetix
+
+timed() {  # timed NAME COMMAND...: run once, its wall time to $out/NAME.time (only when it succeeded), its log beside
+  local name=$1
+  shift
+  [ ! -f "$out/$name.time" ] || return 0
+  /usr/bin/time -f "%e s wall" -o "$out/$name.time.part" "$@" >"$out/$name.log" 2>&1
+  mv "$out/$name.time.part" "$out/$name.time"
+}
+
+for size in ${SIZES:-s m l}; do
+  case $size in s) seed=201 ;; m) seed=202 ;; l) seed=203 ;; esac
+  timed "generate-$size" $kinetix generate --size "$size" --count 1024 --seed $seed --out "runs/solved-sets/gen-$size"
+  timed "solve-$size" $kinetix levels solve "runs/solved-sets/gen-$size" -o "runs/solved-sets/$size" \
+    --population 64 --iterations 10 --batch 64 --seed 0
+  $kinetix levels info "runs/solved-sets/$size" >"$out/info-$size.txt" 2>&1
+  echo "$size: $(sed -n 2p "$out/info-$size.txt")"
+done
