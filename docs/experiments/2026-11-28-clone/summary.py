@@ -7,6 +7,7 @@ Run from the repository root: python docs/experiments/2026-11-28-clone/summary.p
 
 from __future__ import annotations
 
+import gzip
 import json
 import statistics
 from pathlib import Path
@@ -21,7 +22,14 @@ def _mean(path: Path, size: str | None = None) -> float:
 
 
 def _lines(path: Path) -> list[dict]:
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()] if path.is_file() else []
+    """The JSON lines of `path`, or of its gzipped copy `path.gz` (none: [])."""
+    if path.is_file():
+        text = path.read_text()
+    elif path.with_name(path.name + ".gz").is_file():
+        text = gzip.decompress(path.with_name(path.name + ".gz").read_bytes()).decode()
+    else:
+        return []
+    return [json.loads(line) for line in text.splitlines() if line.strip()]
 
 
 def _spread(values: list[float]) -> float:

@@ -287,6 +287,8 @@ class LevelSettings:
             (a level set directory written by `kinetix generate`: a fixed, reproducible set, filtered by no-op
             and random play) or 'files' (level files, e.g. for fine-tuning).
         levelset: the level set directory (source 'levelset' only), else null.
+        solved_only: source 'levelset' with a solved set (`kinetix levels solve`): train only on the levels its
+            search solved, leaving out those it marked unsolved.
         files: level files (`kinetix-level/1` JSON) to train on (source 'files' only), else empty.
         pool_size: generated levels held on the device (source 'generated'), sampled and filtered once at the start
             of the run with the run's seed; episodes reset to a uniformly drawn pool level.
@@ -304,6 +306,7 @@ class LevelSettings:
 
     source: LevelSource = "generated"
     levelset: str | None = None
+    solved_only: bool = False
     files: tuple[str, ...] = ()
     pool_size: int = 4096
     pool_chunk: int = 1024
@@ -321,6 +324,8 @@ class LevelSettings:
         within(self, "refresh_every", 0, 10**9)
         if self.refresh_every:
             require(self, "refresh_every", self.source == "generated", "is only used when levels.source is 'generated'")
+        if self.solved_only:
+            require(self, "solved_only", self.source == "levelset", "is only used when levels.source is 'levelset'")
         if self.source == "levelset":
             require(self, "levelset", self.levelset is not None, "is required when levels.source is 'levelset'")
         else:

@@ -1,10 +1,11 @@
 """Behaviour cloning of solved levels: the replayed demonstrations are the solutions' own episodes, cloning steps
 make the stored actions the policy's, a bad solved set is one clear line, and a run clones before PPO and beside
-it, resumably."""
+it, resumably, its cloning time counted in a resumed run's budget."""
 
 from __future__ import annotations
 
 import json
+import shutil
 
 import jax
 import numpy as np
@@ -106,6 +107,18 @@ def test_a_run_clones_before_and_beside_ppo_and_resumes_bit_for_bit(solved_set, 
 
     with pytest.raises(Crash):
         train(config, tmp_path / "cut", pool=pool, progress=crash_after_3)
+    for copy in ("kept", "spent"):
+        shutil.copytree(tmp_path / "cut", tmp_path / copy)
+    budget = clone_config(solved_set, "clone.updates=3", "clone.coef=0.5", "clone.batch=2", "run.minutes=40")
+    train(budget, tmp_path / "kept", resume=True, pool=pool)  # 40 minutes: the resumed run trains on
+    assert len((tmp_path / "kept" / "metrics.jsonl").read_text().splitlines()) == 6
+    log = tmp_path / "spent" / "clone.jsonl"  # cloning logged 3 x 1,000 s: a resumed run counts it in run.minutes
+    log.write_text(
+        "".join(json.dumps(json.loads(line) | {"seconds": 1000.0}) + "\n" for line in log.read_text().splitlines())
+    )
+    train(budget, tmp_path / "spent", resume=True, pool=pool)
+    updates = [json.loads(line)["update"] for line in (tmp_path / "spent" / "metrics.jsonl").read_text().splitlines()]
+    assert updates == [1, 2]  # the checkpoint's updates, none trained after
     resumed = train(config, tmp_path / "cut", resume=True, pool=pool)
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, load_policy(tmp_path / "whole").params, whole.params)

@@ -1,5 +1,5 @@
-"""A generated pool refreshed every K updates (`levels.refresh_every`): a filtered stream of new levels, one pool
-per round, the same in a resumed run."""
+"""The training pool: a generated pool refreshed every K updates (`levels.refresh_every`) is a filtered stream of
+new levels, one pool per round, the same in a resumed run; a solved set's pool can leave its unsolved levels out."""
 
 from __future__ import annotations
 
@@ -11,9 +11,13 @@ import numpy as np
 import pytest
 
 from engine import SIZES
+from helpers.levelsets import small_levelset, solved_levelset
+from helpers.paths import LEVELS
 from helpers.runs import tiny_config
 from kinetix_cli.config import ConfigError
 from kinetix_cli.constants import VALIDATION_SEED
+from kinetix_cli.env.level import level_count
+from kinetix_cli.errors import UserError
 from kinetix_cli.rl.pool import fresh_source, level_pool, pool_seed
 from kinetix_cli.rl.train import train
 
@@ -64,3 +68,26 @@ def test_a_fresh_source_draws_the_configured_size_mix():
 def test_no_generated_pool_draws_the_validation_suites_seeds():
     seeds = [pool_seed(run, r) for run in range(20) for r in range(1, 200)]
     assert max(seeds) < VALIDATION_SEED and len(set(seeds)) == len(seeds)
+
+
+def test_a_solved_set_pool_can_leave_its_unsolved_levels_out(tmp_path):
+    files = [
+        LEVELS / "s" / "rocket-car-jump.json",
+        LEVELS / "s" / "pad-to-pad.json",
+        LEVELS / "s" / "jet-ball-hop.json",
+    ]
+    solved_levelset(tmp_path / "solved", files, unsolved=1)
+    source = ["levels.source=levelset", "levels.files=[]", f"levels.levelset={tmp_path / 'solved'}"]
+    every, solved = level_pool(tiny_config(*source)), level_pool(tiny_config(*source, "levels.solved_only=true"))
+    assert level_count(every) == 3 and level_count(solved) == 2  # the last level is marked unsolved
+    jax.tree.map(lambda a, b: np.testing.assert_array_equal(a[:2], b), every, solved)
+    with pytest.raises(ConfigError, match="levels.solved_only: is only used when levels.source is 'levelset'"):
+        tiny_config("levels.solved_only=true")
+    small_levelset(tmp_path / "plain")
+    plain = ["levels.source=levelset", "levels.files=[]", f"levels.levelset={tmp_path / 'plain'}"]
+    with pytest.raises(UserError, match="holds no solutions; write a solved set with kinetix levels solve"):
+        level_pool(tiny_config(*plain, "levels.solved_only=true"))
+    solved_levelset(tmp_path / "none", files[:1], unsolved=1)
+    nothing = ["levels.source=levelset", "levels.files=[]", f"levels.levelset={tmp_path / 'none'}"]
+    with pytest.raises(UserError, match="levels.solved_only: no level of .* is solved"):
+        level_pool(tiny_config(*nothing, "levels.solved_only=true"))
