@@ -426,6 +426,17 @@ def _check_shards(file: Path, shards, allow_empty: bool) -> None:
             raise UserError(f"{file}: shards[{k}]: expected {{file: a plain file name, count: int, sha256: str}}")
 
 
+def solved_rows(levelset: LevelSet, path: str | os.PathLike, field: str) -> np.ndarray:
+    """The indices of the levels a solved set's search solved; a UserError naming `field` (the config field that
+    named the set at `path`) if the set holds no solutions or none is solved."""
+    if levelset.solutions is None:
+        raise UserError(f"{field}: {path} holds no solutions; write a solved set with kinetix levels solve")
+    solved = np.flatnonzero(levelset.solutions.solved)
+    if not solved.size:
+        raise UserError(f"{field}: {path}: no level of the set is solved")
+    return solved
+
+
 def level_at(levelset: LevelSet, index: int) -> Level:
     """Level `index` (0-based) of a loaded set, numpy leaves without the batch axis."""
     count = levelset.manifest["count"]

@@ -18,7 +18,6 @@ from pathlib import Path
 import flax.linen as nn
 import jax
 import jax.numpy as jnp
-import numpy as np
 import optax
 from flax import struct
 
@@ -28,7 +27,7 @@ from kinetix_cli.env.factory import make_env_for_level
 from kinetix_cli.env.level import Level, index_level, to_device
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import atomic_write_text
-from kinetix_cli.levels.levelset import load_levelset
+from kinetix_cli.levels.levelset import load_levelset, solved_rows
 from kinetix_cli.levels.solution import SOLUTION_SETTINGS
 from kinetix_cli.parallel import batch_sharded, replicate
 from kinetix_cli.rl.ppo import Runner, make_optimizer
@@ -61,11 +60,7 @@ def load_demonstrations(config: ExperimentConfig) -> tuple[Demonstrations, str]:
         levelset = load_levelset(path)
     except UserError as exc:
         raise UserError(f"clone.levels: {exc}") from None
-    if levelset.solutions is None:
-        raise UserError(f"clone.levels: {path} holds no solutions; write a solved set with kinetix levels solve")
-    solved = np.flatnonzero(levelset.solutions.solved)
-    if not len(solved):
-        raise UserError(f"clone.levels: {path}: no level of the set is solved")
+    solved = solved_rows(levelset, path, "clone.levels")
     levels = index_level(levelset.levels, solved)
     demos = Demonstrations(
         levels=to_device(levels),

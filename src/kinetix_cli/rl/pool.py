@@ -10,12 +10,12 @@ from jax.sharding import Mesh
 from engine import SIZES
 from kinetix_cli.config import ExperimentConfig
 from kinetix_cli.constants import VALIDATION_SEED
-from kinetix_cli.env.level import Level, level_count, stack_levels, to_device
+from kinetix_cli.env.level import Level, index_level, level_count, stack_levels, to_device
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.filters import chunk_source, make_config
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.levels.files import load_level
-from kinetix_cli.levels.levelset import LevelSet, load_levelset
+from kinetix_cli.levels.levelset import load_levelset, solved_rows
 
 
 def fresh_source(config: ExperimentConfig) -> FreshLevels | None:
@@ -50,8 +50,10 @@ def level_pool(config: ExperimentConfig, mesh: Mesh | None = None, round: int = 
         levelset = load_levelset(settings.levelset)
         if levelset.manifest["size"] != size:
             raise UserError(f"{settings.levelset}: holds size-{levelset.manifest['size']} levels, env.size is {size}")
-        if settings.solved_only:
-            return to_device(_solved_levels(settings.levelset, levelset))
+        if settings.solved_only:  # the levels its search solved
+            return to_device(
+                index_level(levelset.levels, solved_rows(levelset, settings.levelset, "levels.solved_only"))
+            )
         return to_device(levelset.levels)
     chunk = chunk_source(make_config(size, settings.pool_chunk), pool_seed(config.run.seed, round), mesh)
     chunks, kept, index = [], 0, 0
@@ -61,13 +63,3 @@ def level_pool(config: ExperimentConfig, mesh: Mesh | None = None, round: int = 
         kept += level_count(levels)
         index += 1
     return to_device(jax.tree.map(lambda *xs: np.concatenate(xs)[: settings.pool_size], *chunks))
-
-
-def _solved_levels(path: str, levelset: LevelSet) -> Level:
-    """The levels of a solved set that its search solved (`levels.solved_only`)."""
-    if levelset.solutions is None:
-        raise UserError(f"levels.solved_only: {path} holds no solutions; write a solved set with kinetix levels solve")
-    solved = np.flatnonzero(levelset.solutions.solved)
-    if not solved.size:
-        raise UserError(f"levels.solved_only: no level of {path} is solved")
-    return jax.tree.map(lambda x: x[solved], levelset.levels)

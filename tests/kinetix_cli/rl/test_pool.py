@@ -89,5 +89,5 @@ def test_a_solved_set_pool_can_leave_its_unsolved_levels_out(tmp_path):
         level_pool(tiny_config(*plain, "levels.solved_only=true"))
     solved_levelset(tmp_path / "none", files[:1], unsolved=1)
     nothing = ["levels.source=levelset", "levels.files=[]", f"levels.levelset={tmp_path / 'none'}"]
-    with pytest.raises(UserError, match="levels.solved_only: no level of .* is solved"):
+    with pytest.raises(UserError, match="levels.solved_only: .*: no level of the set is solved"):
         level_pool(tiny_config(*nothing, "levels.solved_only=true"))
