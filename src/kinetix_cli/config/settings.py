@@ -150,6 +150,13 @@ class PPOSettings:
         total_timesteps: environment steps of the whole run, over all envs (required); the run does
             total_timesteps // (num_envs * num_steps) updates.
         normalise_advantages: normalise advantages per minibatch (zero mean, unit std).
+        mirror_coef: weight of a left-right symmetry loss (0: none): the mean KL divergence between the policy at
+            each state and its own choice at the state's mirror image, mirrored back. The environment observes
+            every state twice (as it is and mirrored); the network runs once a step in rollouts, and in updates
+            once more on `mirror_share` of each minibatch. Trains a plain model (not with `model.mirror`,
+            equivariant already).
+        mirror_share: the share of each (shuffled) minibatch the symmetry loss is computed on, in (0, 1]: its
+            cost in updates scales with it.
     """
 
     SECTION: ClassVar[str] = "ppo"
@@ -170,6 +177,8 @@ class PPOSettings:
     anneal_lr: bool = False
     total_timesteps: int
     normalise_advantages: bool = True
+    mirror_coef: float = 0.0
+    mirror_share: float = 1.0
 
     def __post_init__(self):
         check_types(self)
@@ -179,8 +188,9 @@ class PPOSettings:
             within(self, name, 0, 1)
         for name, high in (("lr", 1), ("adam_eps", 1), ("clip_eps", 10), ("max_grad_norm", 1e6)):
             within(self, name, 0, high, low_excluded=True)
-        for name in ("ent_coef", "vf_coef"):
+        for name in ("ent_coef", "vf_coef", "mirror_coef"):
             within(self, name, 0, 1000)
+        within(self, "mirror_share", 0, 1, low_excluded=True)
         if self.ent_coef_end is not None:
             within(self, "ent_coef_end", 0, 1000)
         batch = f"num_envs * num_steps = {self.num_envs} * {self.num_steps} = {self.batch_size}"
@@ -197,6 +207,11 @@ class PPOSettings:
     def minibatch_size(self) -> int:
         """Transitions per minibatch."""
         return self.batch_size // self.num_minibatches
+
+    @property
+    def mirror_batch(self) -> int:
+        """Transitions of each minibatch the symmetry loss is computed on (at least 1)."""
+        return max(1, round(self.mirror_share * self.minibatch_size))
 
     @property
     def num_updates(self) -> int:
@@ -494,6 +509,11 @@ class ExperimentConfig:
                 f"{self.curriculum.name!r} resets every environment at each update, so a shorter rollout would cut "
                 "every episode"
             )
+        if self.ppo.mirror_coef and self.model.reads_pairs:
+            raise ConfigError(
+                f"ppo.mirror_coef: model.mirror {self.model.mirror!r} is left-right equivariant already (the loss "
+                "would be 0); train a plain model with it"
+            )
         allowed = MODEL_OBSERVATIONS[self.model.name]
         if self.env.observation not in allowed:
             raise ConfigError(
@@ -516,6 +536,12 @@ class ExperimentConfig:
                 f"levels.fresh_like: {larger} are larger than env.size {self.env.size!r}; a level is drawn in the "
                 "slots of env.size, so raise env.size to the largest"
             )
+
+    @property
+    def trains_on_pairs(self) -> bool:
+        """Whether training observes every state and its mirror image (`make_env(..., pairs=True)`): the model
+        joins the two (`model.mirror`) or the symmetry loss compares them (`ppo.mirror_coef`)."""
+        return self.model.reads_pairs or self.ppo.mirror_coef > 0
 
 
 SECTIONS: dict[str, type] = {

@@ -1,7 +1,8 @@
 """Action distributions of the policies: small pure pytrees (no distrax), one per action type.
 
 Every distribution holds arrays with any leading batch shape ``...`` and answers per batch entry:
-`sample(key)`, `log_prob(action)`, `entropy()` and `mode()`. Actions follow `kinetix_cli.actions`:
+`sample(key)`, `log_prob(action)`, `entropy()` and `mode()`; `kl_divergence(a, b)` compares two of one type.
+Actions follow `kinetix_cli.actions`:
 
 - `MultiCategorical` for ``multi-discrete``: int32 (..., 6), entry i in [0, nvec[i]) with nvec (3, 3, 3, 3, 2, 2).
 - `Categorical` for ``discrete``: int32 (...,) in [0, 11).
@@ -179,3 +180,17 @@ def chosen(pick_a: jax.Array, a: Distribution, b: Distribution) -> Distribution:
     return jax.tree.map(
         lambda x, y: jnp.where(pick_a.reshape(pick_a.shape + (1,) * (x.ndim - pick_a.ndim)), x, y), a, b
     )
+
+
+def kl_divergence(a: Distribution, b: Distribution) -> jax.Array:
+    """(...,) KL(a || b) [nats] of two distributions of one type, summed over the entries of a multi-discrete or
+    Gaussian action. Choices impossible in `a` add nothing (choices impossible in `b` alone give inf); entries a
+    Gaussian does not use add nothing."""
+    if isinstance(a, DiagGaussian):
+        var_a, var_b = jnp.exp(2.0 * a.log_std), jnp.exp(2.0 * b.log_std)
+        return a._sum(b.log_std - a.log_std + (var_a + (a.mean - b.mean) ** 2) / (2.0 * var_b) - 0.5)
+    possible = ~jnp.isneginf(a.logits)
+    log_a = jnp.where(possible, jax.nn.log_softmax(a.logits, axis=-1), 0.0)  # no -inf reaches a product
+    log_b = jnp.where(possible, jax.nn.log_softmax(b.logits, axis=-1), 0.0)
+    kl = jnp.sum(jnp.where(possible, jnp.exp(log_a) * (log_a - log_b), 0.0), axis=-1)
+    return jnp.sum(kl, axis=-1) if isinstance(a, MultiCategorical) else kl

@@ -533,6 +533,29 @@ class MirrorJoinedNetwork:
         return _joined(self.base.apply(params, pair[0]), self.base.apply(params, pair[1]), self.mode)
 
 
+@dataclasses.dataclass(frozen=True)
+class FirstViewNetwork:
+    """A plain actor-critic `base` that reads the pairs of `env.mirror.MirrorPairEnv` and acts on the first view,
+    the state as it is: what a run with the symmetry loss (`ppo.mirror_coef`) trains. Applied to the swapped pair
+    it gives its view of the mirror image, which `ppo.ppo_loss` compares with the first. Its parameters are
+    `base`'s, so its checkpoints are plain agents."""
+
+    base: nn.Module
+
+    def init(self, key: jax.Array, pair):
+        return self.base.init(key, pair[0])
+
+    def apply(self, params, pair):
+        return self.base.apply(params, pair[0])
+
+
+def training_network(config: ExperimentConfig) -> nn.Module:
+    """The network a run trains: `make_network`'s, reading observation pairs when the run has the symmetry loss
+    (the environment then observes pairs too: `ExperimentConfig.trains_on_pairs`)."""
+    network = make_network(config.model, config.env)
+    return FirstViewNetwork(network) if config.ppo.mirror_coef else network
+
+
 def mirror_policy(network: nn.Module, params, mode: str) -> Policy:
     """The episode-runner policy that samples `mirror_joined`: it reads the observation pairs of
     `env.mirror.MirrorPairEnv` and runs the network twice a step."""

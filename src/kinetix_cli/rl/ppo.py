@@ -37,6 +37,7 @@ from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.parallel import batch_sharded, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, empty_buffer
+from kinetix_cli.rl.distributions import kl_divergence, mirrored
 
 
 @struct.dataclass
@@ -123,7 +124,9 @@ def entropy_weight(settings: PPOSettings, update: jax.Array) -> jax.Array | floa
 
 
 def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings: PPOSettings, ent_coef):
-    """Clipped policy loss + vf_coef * clipped value loss - ent_coef * entropy, and its parts."""
+    """Clipped policy loss + vf_coef * clipped value loss - ent_coef * entropy (+ mirror_coef * the symmetry
+    loss: the KL between the policy at each state and its choice at the mirror image, mirrored back, over the
+    minibatch's first `mirror_batch` transitions), and its parts."""
     dist, value = apply_fn(params, batch.obs)
     log_prob = dist.log_prob(batch.action)
     if settings.normalise_advantages:
@@ -136,7 +139,13 @@ def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings:
     entropy = dist.entropy().mean()
     total = policy_loss + settings.vf_coef * value_loss - ent_coef * entropy
     approx_kl = ((ratio - 1.0) - jnp.log(ratio)).mean()
-    return total, {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
+    parts = {"policy_loss": policy_loss, "value_loss": value_loss, "entropy": entropy, "approx_kl": approx_kl}
+    if settings.mirror_coef:  # the observations are (state, mirror image) pairs (`networks.FirstViewNetwork`)
+        sample = lambda tree: jax.tree.map(lambda x: x[: settings.mirror_batch], tree)  # noqa: E731  (shuffled)
+        twin, _ = apply_fn(params, (sample(batch.obs[1]), sample(batch.obs[0])))
+        parts["mirror_loss"] = kl_divergence(sample(dist), mirrored(twin)).mean()
+        total = total + settings.mirror_coef * parts["mirror_loss"]
+    return total, parts
 
 
 def first_reset(runner: Runner, env: KinetixEnv, pool: Level, key: jax.Array) -> Runner:
@@ -239,7 +248,7 @@ def collect(
     return runner, transitions, finished_return
 
 
-LOSS_METRICS = ("loss", "policy_loss", "value_loss", "entropy", "approx_kl")  # what `learn` measures
+LOSS_METRICS = ("loss", "policy_loss", "value_loss", "entropy", "approx_kl", "mirror_loss")  # what `learn` measures
 
 
 def learn(

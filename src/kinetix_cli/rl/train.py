@@ -67,7 +67,7 @@ from kinetix_cli.rl.checkpoints import (
 from kinetix_cli.rl.clone import Cloning, load_demonstrations
 from kinetix_cli.rl.curricula import curriculum_class, make_curriculum
 from kinetix_cli.rl.evaluate import Evaluator, evaluation_record
-from kinetix_cli.rl.networks import CRITIC, POLICY_HEAD, make_network, replace_subtrees, temper
+from kinetix_cli.rl.networks import CRITIC, POLICY_HEAD, replace_subtrees, temper, training_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import Runner, init_runner, make_optimizer
 from kinetix_cli.rl.trees import tree_mismatch
@@ -138,9 +138,9 @@ def _train(config, run_dir: Path, resume: bool, progress, pool, init_params, mes
     evaluator = _evaluator(config, devices)
     pool = None if pool is None else replicate(pool, mesh)
     fresh = fresh_source(config)
-    env, env_params = make_env(config.env, pairs=config.model.reads_pairs)
+    env, env_params = make_env(config.env, pairs=config.trains_on_pairs)
     env_params = replicate(env_params, mesh)
-    network = make_network(config.model, config.env)
+    network = training_network(config)
     cloning = None if demos is None else Cloning(config, *demos, mesh, network)
     settings = config.ppo
     curriculum = make_curriculum(config.curriculum, env=env, network=network, ppo=settings, fresh=fresh)

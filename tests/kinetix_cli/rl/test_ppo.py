@@ -1,4 +1,5 @@
-"""PPO pieces with hand-worked numbers: GAE with terminations and truncations, and the clipped losses."""
+"""PPO pieces with hand-worked numbers: GAE with terminations and truncations, the clipped losses, and the
+symmetry loss."""
 
 from __future__ import annotations
 
@@ -7,13 +8,17 @@ import dataclasses
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optax
 import pytest
 
 from engine import SIZES
 from kinetix_cli.bench.env import random_levels
-from kinetix_cli.config import PPOSettings
+from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
 from kinetix_cli.env.environment import KinetixEnv
 from kinetix_cli.env.level import draw_levels, index_level
+from kinetix_cli.env.mirror import MirrorPairEnv
+from kinetix_cli.rl.distributions import kl_divergence, mirrored
+from kinetix_cli.rl.networks import FirstViewNetwork, make_network
 from kinetix_cli.rl.ppo import Runner, Transition, entropy_weight, first_reset, gae, ppo_loss
 
 
@@ -97,6 +102,66 @@ def test_clipped_losses_by_hand():
     # value: clipped values 1.2 and 0.8; losses max((2-1.5)^2, (1.2-1.5)^2) = 0.25, max(1, 0.49) = 1 -> 0.5 * 0.625
     assert float(parts["value_loss"]) == pytest.approx(0.3125, rel=1e-5, abs=1e-6)  # [return^2]
     assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5, abs=1e-6)  # [loss]
+
+
+def test_the_symmetry_loss_compares_each_state_with_its_mirror_image_and_can_be_learned():
+    """`ppo.mirror_coef`: the loss adds mirror_coef x the mean KL between the policy at each state and its choice at
+    the mirror image, mirrored back (nonzero for a fresh network), over `mirror_share` of the minibatch, and Adam
+    steps on it bring it down."""
+    env_settings = EnvSettings(size="s", observation="symbolic-entity")
+    base = make_network(ModelSettings(name="rel-mlp", width=16, actor_critic_layers=2), env_settings)
+    network = FirstViewNetwork(base)
+    env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
+    levels = random_levels(SIZES["s"], 4, 0)
+    pairs = jax.jit(jax.vmap(lambda i: env.observe(env.initial_state(index_level(levels, i)))))(jnp.arange(4))
+    params = jax.tree.map(lambda x: x * 8.0, network.init(jax.random.key(0), pairs))  # far from uniform
+    dist, value = jax.jit(network.apply)(params, pairs)
+    batch = Transition(
+        obs=pairs,
+        action=dist.mode(),
+        log_prob=dist.log_prob(dist.mode()),
+        value=value,
+        next_value=value,
+        reward=jnp.zeros(4),
+        terminated=jnp.zeros(4),
+        done=jnp.zeros(4),
+        solved=jnp.zeros(4),
+    )
+    plain = PPOSettings(num_envs=4, num_steps=1, num_minibatches=1, total_timesteps=4)
+    with_loss = dataclasses.replace(plain, mirror_coef=2.0)
+    loss = jax.jit(ppo_loss, static_argnums=(0, 5))
+    zeros = jnp.zeros(4)
+    total, parts = loss(network.apply, params, batch, zeros, zeros, plain, 0.01)
+    total_2, parts_2 = loss(network.apply, params, batch, zeros, zeros, with_loss, 0.01)
+    twin = jax.jit(base.apply)(params, pairs[1])[0]
+    expected = float(kl_divergence(dist, mirrored(twin)).mean())
+    assert "mirror_loss" not in parts and expected > 0.01, expected
+    np.testing.assert_allclose(float(parts_2["mirror_loss"]), expected, atol=1e-6)  # [nats]
+    np.testing.assert_allclose(float(total_2), float(total) + 2.0 * expected, atol=1e-5)  # [loss]
+    half = loss(network.apply, params, batch, zeros, zeros, dataclasses.replace(with_loss, mirror_share=0.5), 0.01)
+    on_two = jax.tree.map(lambda x: x[:2], (dist, twin))
+    np.testing.assert_allclose(
+        float(half[1]["mirror_loss"]), float(kl_divergence(on_two[0], mirrored(on_two[1])).mean()), atol=1e-6
+    )  # [nats]: the first half of the (shuffled) minibatch
+    optimizer = optax.adam(1e-3)
+
+    @jax.jit
+    def descend(params, opt_state):
+        grads = jax.grad(lambda p: loss(network.apply, p, batch, zeros, zeros, with_loss, 0.0)[1]["mirror_loss"])
+        updates, opt_state = optimizer.update(grads(params), opt_state)
+        return optax.apply_updates(params, updates), opt_state
+
+    trained, opt_state = params, optimizer.init(params)
+    for _ in range(20):
+        trained, opt_state = descend(trained, opt_state)
+    after = float(loss(network.apply, trained, batch, zeros, zeros, with_loss, 0.0)[1]["mirror_loss"])
+    assert after < 0.5 * expected, (after, expected)
+    with pytest.raises(ConfigError, match="ppo.mirror_coef: model.mirror 'geometric' is left-right equivariant"):
+        ExperimentConfig(env=env_settings, model=ModelSettings(name="rel-mlp", mirror="geometric"), ppo=with_loss)
+    with pytest.raises(ConfigError, match="ppo.mirror_coef"):
+        dataclasses.replace(plain, mirror_coef=-1.0)
+    with pytest.raises(ConfigError, match="ppo.mirror_share"):
+        dataclasses.replace(plain, mirror_share=0.0)
 
 
 def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():

@@ -307,6 +307,20 @@ def test_fresh_levels_train_and_resume_bit_identically(tmp_path, curriculum):
     assert metrics(tmp_path / "cut")[-1]["return"] == metrics(tmp_path / "whole")[-1]["return"]
 
 
+@pytest.mark.slow  # a second compile of the PPO update (on pairs, with the symmetry loss): ~40 s
+def test_a_run_with_the_symmetry_loss_logs_it_and_is_a_plain_agent(tmp_path, tiny_run, tiny_pool):
+    """`ppo.mirror_coef`: the run trains on observation pairs from a plain run's parameters, logs the loss, and
+    what it saves is a plain agent that `kinetix eval` plays with one view."""
+    config = tiny_config("ppo.mirror_coef=1.0", f"run.init_from={tiny_run}")
+    runner = train(config, tmp_path / "loss", pool=tiny_pool)
+    assert all(record["mirror_loss"] >= 0.0 for record in metrics(tmp_path / "loss"))
+    loaded = load_policy(tmp_path / "loss")
+    assert not loaded.config.model.reads_pairs
+    assert jax.tree.structure(runner.params) == jax.tree.structure(load_policy(tiny_run).params)
+    (result,) = evaluate(loaded.config, runner.params, [LEVELS / "s" / "pad-to-pad.json"], 2)
+    assert 0.0 <= result.solve_rate <= 1.0 and result.mean_length > 0
+
+
 @pytest.mark.slow  # a second compile of the PPO update (the model reads pairs): ~40 s
 def test_a_mirror_joined_model_trains_from_a_plain_run_and_evaluates(tmp_path, tiny_run, tiny_pool):
     """`model.mirror`: a plain run's parameters start it, it trains on observation pairs, and `kinetix eval` plays it
