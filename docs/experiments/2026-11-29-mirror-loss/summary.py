@@ -6,6 +6,7 @@ Run from the repository root: python docs/experiments/2026-11-29-mirror-loss/sum
 
 from __future__ import annotations
 
+import gzip
 import json
 import statistics
 from pathlib import Path
@@ -26,7 +27,9 @@ def _mean(rates: dict, size: str | None = None) -> float:
 
 def _training(metrics: Path) -> tuple[int, float]:
     """Env steps trained and the steady env steps/s (the median over updates after the first 10)."""
-    records = [json.loads(line) for line in metrics.read_text().splitlines() if line.strip()]
+    zipped = metrics.with_name(metrics.name + ".gz")
+    text = metrics.read_text() if metrics.is_file() else gzip.decompress(zipped.read_bytes()).decode()
+    records = [json.loads(line) for line in text.splitlines() if line.strip()]
     rates = [r["sps"] for r in records[10:]]
     return records[-1]["steps"], statistics.median(rates) if rates else float("nan")
 
@@ -56,7 +59,8 @@ def main() -> None:
             rates = _rates(record)
             if rates is None:
                 continue
-            steps, speed = _training(metrics) if metrics.is_file() else (0, float("nan"))
+            found = metrics.is_file() or metrics.with_name(metrics.name + ".gz").is_file()
+            steps, speed = _training(metrics) if found else (0, float("nan"))
             mirror = _rates(image)
             gap = f"{100 * statistics.mean(abs(rates[k] - mirror[k]) for k in rates):.1f}" if mirror else ""
             tests = [_rates(HERE / f"test-{arm}-{seed}-{s}.json") for s in (1000, 1001)]
