@@ -130,3 +130,24 @@ def test_a_run_clones_before_and_beside_ppo_and_resumes_bit_for_bit(solved_set, 
     plain = train(tiny_config(*CLONE), tmp_path / "plain", pool=pool)  # cloning changed the parameters
     pairs = zip(jax.tree.leaves(plain.params), jax.tree.leaves(whole.params), strict=True)
     assert any(not np.array_equal(a, b) for a, b in pairs)
+
+
+@pytest.mark.slow  # the PPO update and cloning step on observation pairs: two more compiles, ~60 s
+def test_cloning_beside_the_symmetry_loss_clones_the_first_view_and_saves_a_plain_agent(solved_set, tmp_path):
+    """`clone.*` with `ppo.mirror_coef`: the demonstrations are replayed as (state, mirror image) pairs, cloning fits
+    the policy at the state itself, both losses are logged, and the run saves a plain agent."""
+    config = clone_config(solved_set, "clone.updates=2", "clone.coef=0.5", "clone.batch=2", "ppo.mirror_coef=1.0")
+    demos, size = load_demonstrations(config)
+    env, params = demonstration_env(config, size)
+    observations, _, _ = replay_observations(env, params, demos, jax.random.key(0), 2)
+    plain_env, plain_params = demonstration_env(clone_config(solved_set, "clone.updates=1"), size)
+    plain, _, _ = replay_observations(plain_env, plain_params, demos, jax.random.key(0), 2)
+    first, mirrored = observations
+    jax.tree.map(np.testing.assert_array_equal, first, plain)  # the first view is the state itself
+    assert any(not np.array_equal(a, b) for a, b in zip(jax.tree.leaves(first), jax.tree.leaves(mirrored), strict=True))
+    train(config, tmp_path / "both")
+    steps = [json.loads(line)["clone_step"] for line in (tmp_path / "both" / "clone.jsonl").read_text().splitlines()]
+    assert steps == [1, 2]
+    lines = [json.loads(line) for line in (tmp_path / "both" / "metrics.jsonl").read_text().splitlines()]
+    assert all(np.isfinite(line["clone_loss"]) and line["mirror_loss"] >= 0.0 for line in lines)
+    assert not load_policy(tmp_path / "both").config.model.reads_pairs
