@@ -54,7 +54,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|")
     means = {}
     for arm in ("plain", "Y"):
-        scores = []
+        scores, test_scores = [], {1000: [], 1001: []}
         for seed, record, metrics, image in _runs(arm):
             rates = _rates(record)
             if rates is None:
@@ -65,6 +65,9 @@ def main() -> None:
             gap = f"{100 * statistics.mean(abs(rates[k] - mirror[k]) for k in rates):.1f}" if mirror else ""
             tests = [_rates(HERE / f"test-{arm}-{seed}-{s}.json") for s in (1000, 1001)]
             test = " / ".join(f"{_mean(t):.1f}%" for t in tests if t is not None)
+            for eval_seed, t in zip((1000, 1001), tests, strict=True):
+                if t is not None:
+                    test_scores[eval_seed].append(_mean(t))
             sizes = " | ".join(f"{_mean(rates, z):.1f}%" for z in "sml")
             scores.append(_mean(rates))
             print(
@@ -73,7 +76,10 @@ def main() -> None:
         if scores:
             spread = statistics.stdev(scores) if len(scores) > 1 else float("nan")
             means[arm] = (statistics.mean(scores), spread, len(scores))
-            print(f"| {arm} | mean (sd) | | | {means[arm][0]:.2f}% ({spread:.2f}) | | | | | |")
+            test = " / ".join(
+                f"{statistics.mean(v):.2f}% ({statistics.stdev(v):.2f})" for v in test_scores.values() if len(v) > 1
+            )
+            print(f"| {arm} | mean (sd) | | | {means[arm][0]:.2f}% ({spread:.2f}) | | | | | {test} |")
     if len(means) == 2 and means["Y"][2] == means["plain"][2] == 3:
         margin = max(means["Y"][1], means["plain"][1])
         wins = means["Y"][0] - means["plain"][0] > margin
