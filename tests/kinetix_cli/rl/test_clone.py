@@ -21,7 +21,7 @@ from kinetix_cli.errors import UserError
 from kinetix_cli.parallel import make_mesh
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.clone import Cloning, clone_step, demonstration_env, load_demonstrations, replay_observations
-from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.networks import make_network, training_network
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
@@ -145,6 +145,24 @@ def test_cloning_beside_the_symmetry_loss_clones_the_first_view_and_saves_a_plai
     first, mirrored = observations
     jax.tree.map(np.testing.assert_array_equal, first, plain)  # the first view is the state itself
     assert any(not np.array_equal(a, b) for a, b in zip(jax.tree.leaves(first), jax.tree.leaves(mirrored), strict=True))
+    plain_network, optimizer = make_network(config.model, config.env), optax.adam(3e-3)
+    weights = plain_network.init(jax.random.key(1), jax.tree.map(lambda x: x[0], plain))
+    steps = [  # one cloning step on pairs with the run's network is the plain step on the states
+        clone_step(
+            weights,
+            optimizer.init(weights),
+            p,
+            demos,
+            jax.random.key(2),
+            env=e,
+            network=n,
+            optimizer=optimizer,
+            count=2,
+        )
+        for e, p, n in ((env, params, training_network(config)), (plain_env, plain_params, plain_network))
+    ]
+    jax.tree.map(lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-6, atol=1e-6), steps[0][0], steps[1][0])
+    np.testing.assert_allclose(steps[0][2]["clone_loss"], steps[1][2]["clone_loss"], rtol=1e-6, atol=1e-6)
     train(config, tmp_path / "both")
     steps = [json.loads(line)["clone_step"] for line in (tmp_path / "both" / "clone.jsonl").read_text().splitlines()]
     assert steps == [1, 2]
