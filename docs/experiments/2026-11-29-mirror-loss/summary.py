@@ -1,7 +1,7 @@
 """The symmetry-loss table from the records beside this file (and the plain arm's in ../2026-11-28-batch-scale/):
 per arm and seed the env steps trained, the steady env steps per second, the validation mean (all 180 and per size),
 the mean per-level gap between a level and its mirror image, and the test means where recorded (read after the
-decision); per arm the mean and sd over seeds, and PLAN.md's rule.
+decision); per arm the mean and sd over seeds, and PLAN.md's rule; then RERUN.md's check (seed 3, a fresh clone).
 Run from the repository root: python docs/experiments/2026-11-29-mirror-loss/summary.py"""
 
 from __future__ import annotations
@@ -87,6 +87,28 @@ def main() -> None:
             f"\nrule: Y - plain = {means['Y'][0] - means['plain'][0]:+.2f} points, margin {margin:.2f}: "
             f"{'Y wins' if wins else 'Y does not win'}"
         )
+    _rerun(means)
+
+
+def _rerun(means: dict) -> None:
+    """RERUN.md's two checks on the seed-3 pair, and the four-seed means."""
+    pair = {
+        arm: (_rates(HERE / f"rerun-{arm}-3.json"), _rates(HERE / f"rerun-{arm}-3-mirrorimage.json")) for arm in means
+    }
+    if any(rates is None or image is None for rates, image in pair.values()):
+        return
+    print("\n| seed 3, fresh clone | env steps | all 180 | s | m | l | mean gap to mirror image | 50+ points apart |")
+    print("|---|---|---|---|---|---|---|---|")
+    gaps = {}
+    for arm, (rates, image) in pair.items():
+        steps, _ = _training(HERE / f"rerun-{arm}-3.metrics.jsonl")
+        gaps[arm] = 100 * statistics.mean(abs(rates[k] - image[k]) for k in rates)
+        apart = sum(abs(rates[k] - image[k]) >= 0.5 for k in rates)
+        sizes = " | ".join(f"{_mean(rates, z):.1f}%" for z in "sml")
+        print(f"| {arm} | {steps / 1e6:.2f}M | {_mean(rates):.2f}% | {sizes} | {gaps[arm]:.1f} | {apart} |")
+    lead = _mean(pair["Y"][0]) - _mean(pair["plain"][0])
+    print(f"\nno win holds: {lead <= 0.90} (Y - plain = {lead:+.2f} points, margin 0.90)")
+    print(f"the gap holds: {gaps['Y'] < 0.6 * gaps['plain']} (Y's gap {gaps['Y'] / gaps['plain']:.2f}x plain's)")
 
 
 if __name__ == "__main__":
