@@ -2,7 +2,7 @@
 updates and env steps trained, the validation mean (all 180 and the 50 s levels), the test means (the paper's 74
 levels at evaluation seeds 1000 and 1001, read after the decision, where recorded) and the training wall time; per
 arm the mean and standard deviation over seeds, and PLAN.md's rule (an arm beats P if its seed mean exceeds P's by
-more than the larger of the two sds).
+more than the larger of the two sds); then RERUN.md's check (seed 3, a fresh clone), where its records are here.
 Run from the repository root: python docs/experiments/2026-11-28-clone/summary.py"""
 
 from __future__ import annotations
@@ -86,6 +86,43 @@ def main() -> None:
         gap, bar = statistics.mean(means[arm]) - statistics.mean(p), max(_spread(means[arm]), _spread(p))
         verdict = "beats P" if gap > bar else "does not beat P"
         print(f"\n{arm} - P = {gap:+.2f} points against the larger sd {bar:.2f}: {arm} {verdict}")
+    _rerun(means)
+
+
+def _rerun(means: dict) -> None:
+    """RERUN.md's checks on the seed-3 runs from a fresh clone (the arms recorded so far), and the four-seed means."""
+    if not (HERE / "rerun-P-3.json").is_file():
+        return
+    solver = sum(float((HERE / f"rerun-{n}.time").read_text().split()[0]) for n in ("generate", "solve"))
+    print(f"\nre-run, seed 3, fresh clone: its solved set {solver:.1f} s (S = {solver / 60:.2f} min)")
+    print(f"  {(HERE / 'rerun-solved-info.txt').read_text().splitlines()[1].strip()}")
+    study = {"gen-s": "bc59bec6", "solved-s": "56d565cc"}
+    for line in (HERE / "rerun-sha256.txt").read_text().splitlines():
+        digest, path = line.split()
+        name = Path(path).parent.name
+        same = "same as" if digest.startswith(study[name]) else "differs from"
+        print(f"  {name} shard sha256 {digest[:8]}: {same} the study's")
+    print("\n| seed 3, fresh clone | env steps | all 180 | s (50) | m (60) | l (70) | wall time |")
+    print("|---|---|---|---|---|---|---|")
+    scores = {}
+    for arm in ARMS:
+        record = HERE / f"rerun-{arm}-3.json"
+        if not record.is_file():
+            continue
+        scores[arm] = _mean(record)
+        steps = _lines(HERE / f"rerun-{arm}-3.metrics.jsonl")[-1]["steps"]
+        wall = float((HERE / f"rerun-{arm}-3.time").read_text().split()[0])
+        sizes = " | ".join(f"{_mean(record, z):.1f}%" for z in "sml")
+        print(f"| {arm} | {steps / 1e6:.2f}M | {scores[arm]:.2f}% | {sizes} | {wall:.0f} s |")
+    for arm in ("C", "L"):
+        if arm in scores:
+            lead = scores[arm] - scores["P"]
+            four = statistics.mean([*means[arm], scores[arm]]) - statistics.mean([*means["P"], scores["P"]])
+            print(
+                f"no win holds for {arm}: {lead <= 2.00} ({arm} - P = {lead:+.2f} points, margin 2.00; "
+                f"four-seed means {statistics.mean([*means[arm], scores[arm]]):.2f}% against "
+                f"{statistics.mean([*means['P'], scores['P']]):.2f}%, {four:+.2f})"
+            )
 
 
 if __name__ == "__main__":
