@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # RERUN.md's check: runs.sh, unchanged, with training seed 3 (arms P, L, C) in a fresh clone of main with its own .venv,
 # alone on the machine; then its records copied here with the prefix rerun-. Run from the repository root:
-# CLONE=<fresh clone, .venv built (make install)> bash docs/experiments/2026-11-28-clone/rerun.sh. Resumable (runs.sh
+# CLONE=<fresh clone, .venv built (make .venv/.installed-dev)> bash docs/experiments/2026-11-28-clone/rerun.sh. Resumable (runs.sh
 # keeps a finished step); ARMS="P L" stops before C.
 set -euo pipefail
 out=$PWD/docs/experiments/2026-11-28-clone
-cd "${CLONE:?a fresh clone of main, its .venv built (make install)}"
+cd "${CLONE:?a fresh clone of main, its .venv built (make .venv/.installed-dev)}"
 echo "rerun at $(git rev-parse --short HEAD)"
 SEEDS=3 ARMS="${ARMS:-P L C}" bash docs/experiments/2026-11-28-clone/runs.sh
 here=docs/experiments/2026-11-28-clone

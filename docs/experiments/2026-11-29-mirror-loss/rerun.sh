@@ -4,7 +4,7 @@
 # bash docs/experiments/2026-11-29-mirror-loss/rerun.sh. Resumable: a finished step is kept.
 set -euo pipefail
 out=$PWD/docs/experiments/2026-11-29-mirror-loss
-cd "${CLONE:?a fresh clone of main, its .venv built (make install)}"
+cd "${CLONE:?a fresh clone of main, its .venv built (make .venv/.installed-dev)}"
 kinetix=.venv/bin/kinetix
 [ -d runs/validation-mirror ] || $kinetix levels mirror validation -o runs/validation-mirror
 for arm in plain Y; do

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # RERUN.md's check: 256 m levels with generate seed 204, solved as run.sh solves, in a fresh clone of main, alone.
-# Run from the repository root: CLONE=<fresh clone, .venv built> bash docs/experiments/2026-11-29-solved-sets/rerun.sh
+# Run from the repository root: CLONE=<fresh clone, .venv built (make .venv/.installed-dev)> bash docs/experiments/2026-11-29-solved-sets/rerun.sh
 set -euo pipefail
 out=$PWD/docs/experiments/2026-11-29-solved-sets
-cd "${CLONE:?a fresh clone of main, its .venv built (make install)}"
+cd "${CLONE:?a fresh clone of main, its .venv built (make .venv/.installed-dev)}"
 echo "rerun at $(git rev-parse --short HEAD)"
 kinetix=.venv/bin/kinetix
 rm -rf runs/solved-sets/gen-m-204 runs/solved-sets/m-204
