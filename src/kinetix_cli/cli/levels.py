@@ -461,12 +461,17 @@ def _mirror_set(source: Path, out: Path) -> None:
 @levels_app.command("solve")
 def levels_solve(
     path: Path = typer.Argument(..., help="Level-set folder (kinetix generate)."),
-    out: Path = typer.Option(..., "-o", "--out", help="Folder of the solved set to write (resumes if killed)."),
+    out: Path = typer.Option(
+        ..., "-o", "--out", help="Folder of the solved set to write (a killed solve resumes at its last written shard)."
+    ),
     population: int = typer.Option(64, min=8, max=65536, help="Action sequences per level and iteration."),
     iterations: int = typer.Option(10, min=1, max=10000, help="Most CEM iterations per level."),
     segments: int = typer.Option(16, min=1, max=256, help="Pieces of constant action per episode."),
     batch: int = typer.Option(64, min=1, max=65536, help="Levels searched at once."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Random seed of the search."),
+    shard_size: int | None = typer.Option(
+        None, min=1, max=2**20, help="Levels per shard file, so how much a killed solve keeps [default: the set's]."
+    ),
 ) -> None:
     """Search a solution for every level of a set (the cross-entropy method of `kinetix solve`, many levels at once)
     and write the solved set: the levels with their solutions, the unsolved marked (`kinetix levels info` counts
@@ -481,6 +486,7 @@ def levels_solve(
         config,
         batch,
         progress=lambda kept, stats: say(f"  {kept:,} levels searched, {stats['solved']:,} solved"),
+        shard_size=shard_size,
     )
     stats = manifest["stats"]
     console.print(f"wrote {out}: {stats['solved']:,} of {manifest['count']:,} levels solved, {stats['unsolved']:,} not")

@@ -170,11 +170,17 @@ def solve_levels(levels: Level, static, config: SolveConfig) -> Solutions:
 
 
 def solve_levelset(
-    source: Path, out: Path, config: SolveConfig, batch: int = 64, progress: Callable[[int, dict], None] | None = None
+    source: Path,
+    out: Path,
+    config: SolveConfig,
+    batch: int = 64,
+    progress: Callable[[int, dict], None] | None = None,
+    shard_size: int | None = None,
 ) -> dict:
     """Write the solved level set of the set in `source` into `out` (`levelset`'s solved form: every level with its
     search result, the unsolved marked), `batch` levels per search; resumable and byte-reproducible like every set
-    (batch k searches with seed `config.seed + k`). Returns the new set's manifest, whose `stats` count the solved
+    (batch k searches with seed `config.seed + k`). A killed solve resumes at its last written shard, every
+    `shard_size` levels (default: the source set's). Returns the new set's manifest, whose `stats` count the solved
     and unsolved levels."""
     levelset = load_levelset(source)
     manifest = levelset.manifest
@@ -199,7 +205,7 @@ def solve_levelset(
         seed=manifest["seed"],
         settings=settings,
         chunk_fn=chunk,
-        shard_size=manifest["shard_size"],
+        shard_size=manifest["shard_size"] if shard_size is None else shard_size,
         progress=progress,
         solutions=True,
     )

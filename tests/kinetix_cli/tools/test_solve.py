@@ -3,7 +3,9 @@ of every level of a set."""
 
 from __future__ import annotations
 
+import jax
 import numpy as np
+import pytest
 
 from engine import SIZES
 from helpers.cli import kinetix
@@ -14,7 +16,7 @@ from kinetix_cli.env.factory import make_env
 from kinetix_cli.levels.levelset import load_levelset
 from kinetix_cli.levels.parse import parse_level
 from kinetix_cli.levels.solution import SOLUTION_SETTINGS, check_level
-from kinetix_cli.tools.solve import SolveConfig, solve
+from kinetix_cli.tools.solve import SolveConfig, solve, solve_levelset
 
 
 def test_search_finds_a_robust_solution_that_replays():
@@ -51,3 +53,27 @@ def test_a_solved_set_keeps_each_levels_search_result_and_replays_its_solutions(
     assert f"solutions: {found.solved.sum()} solved" in result.out
     line = kinetix(capsys, "levels", "solve", tmp_path / "solved" / "nowhere", "-o", tmp_path / "x").error_line
     assert "manifest.json: not found" in line
+
+
+def test_a_solve_stopped_part_way_resumes_at_its_last_shard(capsys, tmp_path):
+    """`--shard-size` sets how much a killed solve keeps: stopped after its first shard of 2 levels, the same command
+    finishes the set, and it holds the same levels and search results as the source's layout (shards of 4)."""
+    small_levelset(tmp_path / "set")
+    config = SolveConfig(population=16, iterations=3)
+
+    def stop(kept, stats):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        solve_levelset(tmp_path / "set", tmp_path / "solved", config, batch=3, progress=stop, shard_size=2)
+    assert sorted(p.name for p in (tmp_path / "solved").iterdir()) == ["progress.json", "shard-00000.npz"]
+    args = ["levels", "solve", tmp_path / "set", "--population", "16", "--iterations", "3", "--batch", "3"]
+    assert kinetix(capsys, *args, "-o", tmp_path / "solved", "--shard-size", "2").code == 0
+    assert kinetix(capsys, *args, "-o", tmp_path / "whole").code == 0
+    resumed, whole = load_levelset(tmp_path / "solved"), load_levelset(tmp_path / "whole")
+    assert [s["count"] for s in resumed.manifest["shards"]] == [2, 2, 2]
+    assert [s["count"] for s in whole.manifest["shards"]] == [4, 2]
+    for a, b in zip(jax.tree.leaves(resumed.levels), jax.tree.leaves(whole.levels), strict=True):
+        np.testing.assert_array_equal(a, b)
+    for field in ("actions", "solved", "length"):
+        np.testing.assert_array_equal(getattr(resumed.solutions, field), getattr(whole.solutions, field))
