@@ -3,7 +3,9 @@
 # the batched solver, written to runs/solved-sets/{s,m,l}. Run from the repository root, alone on the machine (the
 # times are the record). Resumable: generate and solve both resume a killed folder at its last written shard; a
 # finished step is kept. l's solve takes longer than a session (about 9 s a level), so its sets are written in shards
-# of 64 levels; a step stopped part way (its kinetix process killed, not this script's `time`) keeps its wall time
+# of 64 levels (the solve inherits its source's shards; `levels solve --shard-size`, added after this set was
+# generated, now gives the same without regenerating, but a set's shard size is part of its identity, so the
+# study keeps the layout it ran with); a step stopped part way (its kinetix process killed, not this script's `time`) keeps its wall time
 # as NAME.time.stopped-N, and its log grows across the parts.
 set -euo pipefail
 out=docs/experiments/2026-11-29-solved-sets
