@@ -1,9 +1,11 @@
 """Rules 1 and 2 of PLAN.md, applied to the zero-shot validation records of this folder: per recipe and seed the
 mean over all 180 validation levels and over each size's, each recipe's mean and standard deviation over its seeds,
-and what each name ships. Run from the checkout's root: python docs/experiments/2026-11-28-agents-v4/decide.py"""
+and what each name ships. Run from the checkout's root: python docs/experiments/2026-11-28-agents-v4/decide.py
+The second round applies the same rule to its own folder: decide.py docs/experiments/2026-11-29-agents-v4-round2 C D"""
 
 import json
 import statistics
+import sys
 from pathlib import Path
 
 FOLDER = Path(__file__).parent
@@ -25,8 +27,8 @@ def mean(record: dict, size: str | None) -> float:
     return sum(rates) / len(rates)
 
 
-def main() -> None:
-    records = {(r, s): json.loads((FOLDER / f"zero-shot-{r}-{s}.json").read_text()) for r in RECIPES for s in SEEDS}
+def main(folder: Path = FOLDER, recipes: tuple[str, ...] = RECIPES) -> None:
+    records = {(r, s): json.loads((folder / f"zero-shot-{r}-{s}.json").read_text()) for r in recipes for s in SEEDS}
     print("| recipe | seed | all 180 | s (50) | m (60) | l (70) |")
     print("|---|---|---|---|---|---|")
     for (recipe, seed), record in records.items():
@@ -36,10 +38,10 @@ def main() -> None:
     for name, (size, version) in SHIPPED.items():
         shipped = mean(json.loads((PROTOCOL / f"zero-shot-{name}-{version}.json").read_text()), size)
         stats = {}
-        for recipe in RECIPES:
+        for recipe in recipes:
             scores = [mean(records[recipe, seed], size) for seed in SEEDS]
             stats[recipe] = (statistics.mean(scores), statistics.stdev(scores), scores)
-        best = max(RECIPES, key=lambda r: stats[r][0])
+        best = max(recipes, key=lambda r: stats[r][0])
         avg, sd, scores = stats[best]
         summary = "; ".join(f"{r} {100 * m:.2f}% (sd {100 * d:.2f})" for r, (m, d, _) in stats.items())
         if avg - shipped > max(MARGIN, sd):
@@ -56,4 +58,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if len(sys.argv) > 2:
+        main(Path(sys.argv[1]), tuple(sys.argv[2:]))
+    else:
+        main()
