@@ -29,7 +29,7 @@ for recipe in ${RECIPES:-C D}; do
       /usr/bin/time -f "%e s wall" -o "$out/$recipe-$seed.time" $kinetix pretrain --config experiments/general.yaml \
         --run-dir "$run" --set env.size=m --set run.init_from=general@3 "${clone[@]}" --set run.minutes=12 \
         --set ppo.total_timesteps=100_000_000 --set run.eval_every=0 --set run.seed=$seed >"$out/$recipe-$seed.log" 2>&1
-      cp "$run/metrics.jsonl" "$out/$recipe-$seed.metrics.jsonl"
+      gzip -nc "$run/metrics.jsonl" >"$out/$recipe-$seed.metrics.jsonl.gz"
       touch "$run/done"
     fi
     [ -f "$out/zero-shot-$recipe-$seed.json" ] || $kinetix validation run "$run" --finetune-seeds '' \

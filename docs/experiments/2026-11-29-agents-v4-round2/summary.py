@@ -3,6 +3,7 @@ the training wall time, the validation means (all 180 and each size's, by the fi
 test.sh has run (after the decision), the test means (the paper's 74 levels, seed 1000). Run from the checkout's
 root: python docs/experiments/2026-11-29-agents-v4-round2/summary.py"""
 
+import gzip
 import importlib.util
 import json
 import statistics
@@ -27,7 +28,8 @@ def main() -> None:
     for recipe in ("C", "D"):
         rows = []
         for seed in decide.SEEDS:
-            last = json.loads((HERE / f"{recipe}-{seed}.metrics.jsonl").read_text().splitlines()[-1])
+            metrics = gzip.decompress((HERE / f"{recipe}-{seed}.metrics.jsonl.gz").read_bytes()).decode()
+            last = json.loads(metrics.splitlines()[-1])
             wall = float((HERE / f"{recipe}-{seed}.time").read_text().split()[0])
             record = json.loads((HERE / f"zero-shot-{recipe}-{seed}.json").read_text())
             scores = [decide.mean(record, size) for size in SIZES]

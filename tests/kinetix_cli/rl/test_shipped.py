@@ -84,6 +84,18 @@ def test_a_name_is_its_version_chosen_on_validation_and_every_other_version_load
     assert listed == [2, 3, 1]  # the chosen version first, then the others newest first
 
 
+def test_general_m_v3_is_general_v3_trained_on_at_m_and_v2_loads_by_number():
+    """The second v4 round (docs/experiments/2026-11-29-agents-v4-round2): `general` v3 trained on for 12 minutes at
+    m beat general-m v2 on the validation suite's m levels, so `general-m` is v3 and v2 stays loadable."""
+    card = agents.read_card(agents.shipped_agent("general-m"))
+    continued = ["env.size=m", "run.init_from=general@3", "run.minutes=12", "ppo.total_timesteps=100_000_000"]
+    continued += ["run.eval_every=0", "run.seed=2"]
+    assert card.version == 3 and "2026-11-29-agents-v4-round2/PLAN.md" in card.rule
+    assert agents.load_policy("general-m").config == load_config(EXPERIMENTS / "general.yaml", continued)
+    assert agents.read_card(agents.shipped_agent("general-m@2")).version == 2
+    assert [card.version for card, _ in agents.shipped_agents() if card.name == "general-m"] == [3, 2, 1]
+
+
 def test_every_shipped_name_carries_its_validation_its_test_and_the_rule_that_chose_it():
     """The protocol: a name's version is chosen on the validation suite by a rule written before the runs, and its
     test scores (the paper's 74 levels, two evaluation seeds) are read once, after."""
