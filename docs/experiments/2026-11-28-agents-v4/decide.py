@@ -1,7 +1,8 @@
 """Rules 1 and 2 of PLAN.md, applied to the zero-shot validation records of this folder: per recipe and seed the
 mean over all 180 validation levels and over each size's, each recipe's mean and standard deviation over its seeds,
 and what each name ships. Run from the checkout's root: python docs/experiments/2026-11-28-agents-v4/decide.py
-The second round applies the same rule to its own folder: decide.py docs/experiments/2026-11-29-agents-v4-round2 C D"""
+The second round applies the same rule to its own folder: decide.py docs/experiments/2026-11-29-agents-v4-round2 C D
+and the third with general-m's shipped version replaced: decide.py FOLDER E F general-m=v3:ITS_ZERO_SHOT_RECORD"""
 
 import json
 import statistics
@@ -27,7 +28,14 @@ def mean(record: dict, size: str | None) -> float:
     return sum(rates) / len(rates)
 
 
-def main(folder: Path = FOLDER, recipes: tuple[str, ...] = RECIPES) -> None:
+def main(folder: Path = FOLDER, recipes: tuple[str, ...] = RECIPES, replaced: dict | None = None) -> None:
+    """`replaced`: name -> (version, zero-shot record) of a shipped version newer than the protocol study's."""
+    shipped_versions = {
+        name: (size, version, PROTOCOL / f"zero-shot-{name}-{version}.json")
+        for name, (size, version) in SHIPPED.items()
+    }
+    for name, (version, path) in (replaced or {}).items():
+        shipped_versions[name] = (SHIPPED[name][0], version, Path(path))
     records = {(r, s): json.loads((folder / f"zero-shot-{r}-{s}.json").read_text()) for r in recipes for s in SEEDS}
     print("| recipe | seed | all 180 | s (50) | m (60) | l (70) |")
     print("|---|---|---|---|---|---|")
@@ -35,8 +43,8 @@ def main(folder: Path = FOLDER, recipes: tuple[str, ...] = RECIPES) -> None:
         cells = " | ".join(f"{100 * mean(record, size):.1f}%" for size in (None, "s", "m", "l"))
         print(f"| {recipe} | {seed} | {cells} |")
     print()
-    for name, (size, version) in SHIPPED.items():
-        shipped = mean(json.loads((PROTOCOL / f"zero-shot-{name}-{version}.json").read_text()), size)
+    for name, (size, version, path) in shipped_versions.items():
+        shipped = mean(json.loads(path.read_text()), size)
         stats = {}
         for recipe in recipes:
             scores = [mean(records[recipe, seed], size) for seed in SEEDS]
@@ -59,6 +67,8 @@ def main(folder: Path = FOLDER, recipes: tuple[str, ...] = RECIPES) -> None:
 
 if __name__ == "__main__":
     if len(sys.argv) > 2:
-        main(Path(sys.argv[1]), tuple(sys.argv[2:]))
+        names = tuple(a for a in sys.argv[2:] if "=" not in a)
+        replaced = dict(a.split("=", 1) for a in sys.argv[2:] if "=" in a)
+        main(Path(sys.argv[1]), names, {n: tuple(v.split(":", 1)) for n, v in replaced.items()})
     else:
         main()
