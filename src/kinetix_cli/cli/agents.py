@@ -37,17 +37,24 @@ def agents(
     for card, config in agents:
         evaluation = card.evaluation
         attempts = f", {evaluation['attempts']} attempts per level" if "attempts" in evaluation else ""
-        steps = card.trained.get("steps", 0)
         mark = " (the default: make demo fine-tunes it)" if card.folder.name == default else ""
         say(
             (f"{card.name} v{card.version}", "bold"),
-            f"{mark}: {_model(config)}, {steps:,} env steps; zero-shot{attempts}",
+            f"{mark}: {_model(config)}, {_steps(card, config)}; zero-shot{attempts}",
         )
         table = Table("suite", "levels", "solve rate")
         for suite, row in evaluation.get("suites", {}).items():
             table.add_row(suite, str(row["levels"]), f"{row['solve_rate']:.1%}")
         console.print(table if table.rows else "  not evaluated")
         console.print(f"  {_chosen(card)}", soft_wrap=True)
+
+
+def _steps(card, config) -> str:
+    """The card's env steps; a run started from another policy counts only its own (a blend's are its sources'
+    summed), so name where it started: "5,300,224 env steps after general@3"."""
+    steps = f"{card.trained.get('steps', 0):,} env steps"
+    start = config.run.init_from
+    return steps if start is None or "blend" in card.trained else f"{steps} after {start}"
 
 
 def _chosen(card) -> str:

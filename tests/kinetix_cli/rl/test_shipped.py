@@ -57,6 +57,9 @@ def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
     result = kinetix(capsys, "agents")
     assert result.code == 0 and "levels/s" in result.out
     assert all(f"general-{size}" in result.out for size in "sml")
+    # a run trained on from another agent names it beside its own steps; a blend's steps are its sources'
+    assert "5,300,224 env steps after general@3" in result.out
+    assert "35,659,776 env steps;" in result.out
 
 
 def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
