@@ -28,7 +28,10 @@ def agents(
 
     agents = shipped_agents()
     if as_json:
-        console.print(json.dumps([card.as_dict() | {"model": _model(config)} for card, config in agents], indent=2))
+        cards = [
+            card.as_dict() | {"model": _model(config), "init_from": config.run.init_from} for card, config in agents
+        ]
+        console.print(json.dumps(cards, indent=2))
         return
     if not agents:
         console.print("no shipped agents are installed")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 import pytest
@@ -60,6 +61,8 @@ def test_kinetix_agents_lists_the_shipped_agents_with_their_scores(capsys):
     # a run trained on from another agent names it beside its own steps; a blend's steps are its sources'
     assert "5,300,224 env steps after general@3" in result.out
     assert "35,659,776 env steps;" in result.out
+    cards = {(c["name"], c["version"]): c for c in json.loads(kinetix(capsys, "agents", "--json").out)}
+    assert cards["general-m", 3]["init_from"] == "general@3" and cards["general-l", 2]["init_from"] is None
 
 
 def test_the_v2_recipe_file_is_the_config_general_s_v2_was_trained_with():
