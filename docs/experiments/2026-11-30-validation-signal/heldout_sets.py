@@ -1,35 +1,25 @@
 """The validation suite's held-out levels as level sets, for `kinetix levels solve` (which reads sets, not files):
-the generator call of `kinetix validation build` (`tools.validation.build_heldout`: the same seeds, filters and
-count), kept as a set instead of exported. Checks that each set's levels are the shipped files, then prints the
-folders. Run from the checkout's root: .venv/bin/python docs/experiments/2026-11-30-validation-signal/heldout_sets.py
-runs/validation-sets"""
+`tools.validation.heldout_levelset`, the generator call `kinetix validation build` exports from (the same seeds,
+filters and count). Checks that each set's levels are the shipped files, then prints the folders. Run from the
+checkout's root:
+.venv/bin/python docs/experiments/2026-11-30-validation-signal/heldout_sets.py runs/validation-sets"""
 
 import json
 import sys
 from pathlib import Path
 
 from engine import SIZES
-from kinetix_cli.generator.filters import FilterConfig, chunk_source, make_config
 from kinetix_cli.levels.export import export_level
-from kinetix_cli.levels.levelset import generate_levelset, level_at, load_levelset
+from kinetix_cli.levels.levelset import level_at, load_levelset
 from kinetix_cli.levels.suites import SUITES
-from kinetix_cli.tools.validation import HELDOUT_COUNT, heldout_seed
+from kinetix_cli.tools.validation import HELDOUT_COUNT, heldout_levelset
 
 
 def main(root: Path) -> None:
     for size in SUITES:
         where = root / size
         if not where.exists():
-            config = make_config(size, 256, FilterConfig())
-            seed = heldout_seed(size)
-            generate_levelset(
-                where,
-                size=size,
-                count=HELDOUT_COUNT,
-                seed=seed,
-                settings=config.settings(),
-                chunk_fn=chunk_source(config, seed),
-            )
+            heldout_levelset(where, size)
         levelset = load_levelset(where)
         for index in range(HELDOUT_COUNT):
             made = export_level(level_at(levelset, index), SIZES[size], name="x", description="x")

@@ -60,6 +60,17 @@ def heldout_seed(size: str) -> int:
     return VALIDATION_SEED + list(SUITES).index(size)
 
 
+def heldout_levelset(where: str | Path, size: str, count: int = HELDOUT_COUNT) -> Path:
+    """Generate the held-out levels of `size` as a level set at `where` (`kinetix levels solve` and the other
+    set commands read it; `build_heldout` exports its levels as the suite's files); returns `where`."""
+    config = make_config(size, 256, FilterConfig())
+    seed = heldout_seed(size)
+    generate_levelset(
+        where, size=size, count=count, seed=seed, settings=config.settings(), chunk_fn=chunk_source(config, seed)
+    )
+    return Path(where)
+
+
 def build_heldout(root: str | Path, sizes=SUITES, count: int = HELDOUT_COUNT, progress: Callable = print) -> list[Path]:
     """Write the held-out levels of each size as level files `root/<size>/validation-<size>-NNN.json` (each folder
     whole or not at all); returns the files."""
@@ -70,17 +81,7 @@ def build_heldout(root: str | Path, sizes=SUITES, count: int = HELDOUT_COUNT, pr
             raise UserError(f"--size: {size!r} is not one of {', '.join(SIZES)}")
         progress(f"generating {count} held-out {size} levels (seed {heldout_seed(size)}; the first compiles)...")
         with tempfile.TemporaryDirectory() as scratch:
-            config = make_config(size, 256, FilterConfig())
-            where = Path(scratch) / "set"
-            generate_levelset(
-                where,
-                size=size,
-                count=count,
-                seed=heldout_seed(size),
-                settings=config.settings(),
-                chunk_fn=chunk_source(config, heldout_seed(size)),
-            )
-            levelset = load_levelset(where)
+            levelset = load_levelset(heldout_levelset(Path(scratch) / "set", size, count))
             with atomic_folder(root / size, "--out") as staging:
                 for index in range(count):
                     data = export_level(
