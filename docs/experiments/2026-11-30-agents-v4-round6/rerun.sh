@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# RERUN.md's check: I with training seed 3 in a fresh clone of main ($CLONE), alone, then its zero-shot validation;
+# the records land beside this file in the checkout it is run from, then held.py decides.
+set -euo pipefail
+out=$PWD/docs/experiments/2026-11-30-agents-v4-round6
+here=$PWD
+cd "$CLONE"
+make .venv/.installed-dev >/dev/null
+kinetix=.venv/bin/kinetix
+run=runs/agents-v4-round6/I-3
+rm -rf "$run"
+/usr/bin/time -f "%e s wall" -o "$out/rerun-I-3.time" $kinetix pretrain --config experiments/general.yaml \
+  --run-dir "$run" --set env.size=l --set 'levels.fresh_like=[s,m,l]' --set run.init_from=general@3 \
+  --set ppo.ent_coef=0.001 --set ppo.anneal_lr=true --set ppo.total_timesteps=4_915_200 --set run.minutes=30 \
+  --set run.eval_every=0 --set run.seed=3 >"$out/rerun-I-3.log" 2>&1
+gzip -nc "$run/metrics.jsonl" >"$out/rerun-I-3.metrics.jsonl.gz"
+$kinetix validation run "$run" --finetune-seeds '' --json "$out/rerun-zero-shot-I-3.json" \
+  >"$out/rerun-zero-shot-I-3.log" 2>&1
+git rev-parse HEAD >"$out/rerun-commit.txt"
+cd "$here"
+python docs/experiments/2026-11-30-agents-v4-round6/held.py >"$out/rerun-held.txt"
