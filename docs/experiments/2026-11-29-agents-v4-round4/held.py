@@ -1,11 +1,14 @@
 """RERUN.md's test: the rules of the third and fourth rounds' PLAN.md applied to training seeds 0-3 (seed 3 from the
 fresh clone, `rerun-zero-shot-X-3.json`): each recipe's four-seed mean and sd per name, and whether any beats the
 shipped version by more than max(1.0 point, sd). Run from the checkout's root:
-python docs/experiments/2026-11-29-agents-v4-round4/held.py"""
+python docs/experiments/2026-11-29-agents-v4-round4/held.py
+and for a later round's re-run, its recipe and folder:
+python docs/experiments/2026-11-29-agents-v4-round4/held.py H=docs/experiments/2026-11-29-agents-v4-round5"""
 
 import importlib.util
 import json
 import statistics
+import sys
 from pathlib import Path
 
 HERE = Path(__file__).parent
@@ -25,19 +28,18 @@ def shipped(name: str) -> tuple[str | None, float]:
     return size, decide.mean(json.loads(path.read_text()), size)
 
 
-def scores(recipe: str, size: str | None) -> list[float]:
-    folder = ROUNDS[recipe]
+def scores(folder: Path, recipe: str, size: str | None) -> list[float]:
     paths = [folder / f"zero-shot-{recipe}-{seed}.json" for seed in (0, 1, 2)]
     paths.append(folder / f"rerun-zero-shot-{recipe}-3.json")
     return [decide.mean(json.loads(p.read_text()), size) for p in paths]
 
 
-def main() -> None:
+def main(rounds: dict[str, Path] = ROUNDS) -> None:
     beaten = []
     for name in decide.SHIPPED:
         size, score = shipped(name)
-        for recipe in ROUNDS:
-            values = scores(recipe, size)
+        for recipe, folder in rounds.items():
+            values = scores(folder, recipe, size)
             avg, sd = statistics.mean(values), statistics.stdev(values)
             wins = avg - score > max(decide.MARGIN, sd)
             seeds = " / ".join(f"{100 * v:.1f}" for v in values)
@@ -51,4 +53,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    given = dict(arg.split("=", 1) for arg in sys.argv[1:])
+    main({recipe: Path(folder) for recipe, folder in given.items()} if given else ROUNDS)

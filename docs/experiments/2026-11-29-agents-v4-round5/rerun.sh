@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # RERUN.md's check: H with training seed 3 in a fresh clone of main ($CLONE), alone, then its zero-shot validation;
-# the records land beside this file in the checkout it is run from, then held.py decides.
+# the records land beside this file in the checkout it is run from, then the fourth round's held.py decides.
 set -euo pipefail
 out=$PWD/docs/experiments/2026-11-29-agents-v4-round5
 here=$PWD
@@ -18,4 +18,5 @@ $kinetix validation run "$run" --finetune-seeds '' --json "$out/rerun-zero-shot-
   >"$out/rerun-zero-shot-H-3.log" 2>&1
 git rev-parse HEAD >"$out/rerun-commit.txt"
 cd "$here"
-python docs/experiments/2026-11-29-agents-v4-round5/held.py >"$out/rerun-held.txt"
+python docs/experiments/2026-11-29-agents-v4-round4/held.py \
+  H=docs/experiments/2026-11-29-agents-v4-round5 >"$out/rerun-held.txt"
