@@ -13,7 +13,11 @@ for seed in ${SEEDS:-20}; do
     copy=$runs/K-$seed@$minutes
     if [ ! -d "$copy" ]; then
       resume=()
-      [ -d "$run/checkpoints" ] && [ -n "$(ls -A "$run/checkpoints")" ] && resume=(--resume)
+      if [ -d "$run/checkpoints" ] && [ -n "$(ls -A "$run/checkpoints")" ]; then
+        resume=(--resume)
+      else
+        rm -rf "$run"  # cut off before its first checkpoint: nothing to resume, start again
+      fi
       /usr/bin/time -a -f "$minutes: %e s wall" -o "$out/K-$seed.time" $kinetix pretrain \
         --config experiments/general.yaml --run-dir "$run" "${resume[@]}" --set run.seed=$seed \
         --set run.minutes=$minutes --set ppo.total_timesteps=200_000_000 --set run.eval_every=0 \
