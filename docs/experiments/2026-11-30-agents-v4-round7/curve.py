@@ -1,5 +1,6 @@
 """The round's learning curve: every copy on the validation suite (all 180 and per size), per seed and, where all
-three seeds have it, their mean and sd. Reads only this folder's zero-shot records. From the checkout's root:
+three seeds have it, their mean and sd; once test.sh has run (after the decision), each copy's test columns too (the
+paper's 74 levels, seed 1000). Reads only this folder's records. From the checkout's root:
 python docs/experiments/2026-11-30-agents-v4-round7/curve.py"""
 
 import json
@@ -8,7 +9,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "2026-11-28-agents-v4"))
+sys.path.insert(0, str(Path(__file__).parents[1] / "2026-11-29-agents-v4-round2"))
 from decide import mean  # noqa: E402  (the study scripts are not a package)
+from summary import test_means  # noqa: E402
 
 FOLDER = Path(__file__).parent
 MINUTES = (60, 120, 180, 240)
@@ -18,8 +21,10 @@ STEPS_PER_UPDATE = 256 * 32  # experiments/general.yaml: envs x steps
 
 
 def main() -> None:
-    print("| training minutes | seed | updates | env steps | validation, all 180 | s (50) | m (60) | l (70) |")
-    print("|---|---|---|---|---|---|---|---|")
+    tested = any(FOLDER.glob("test-K*-1000.json"))
+    head = "| training minutes | seed | updates | env steps | validation, all 180 | s (50) | m (60) | l (70) |"
+    print(head + (" test, all 74 | s | m | l |" if tested else ""))
+    print("|---" * (12 if tested else 8) + "|")
     for minutes in MINUTES:
         scores = []
         for seed in SEEDS:
@@ -28,6 +33,8 @@ def main() -> None:
                 continue
             record = json.loads(path.read_text())
             row = [mean(record, size) for size in SIZES]
+            if tested:
+                row += test_means(FOLDER / f"test-K{minutes}-{seed}-1000.json")
             scores.append(row)
             cells = " | ".join(f"{100 * s:.1f}%" for s in row)
             steps = record["update"] * STEPS_PER_UPDATE
