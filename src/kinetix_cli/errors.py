@@ -16,3 +16,13 @@ class LevelError(UserError):
 class WriteError(UserError):
     """A file or folder that could not be written (a full disk, a quota, a read-only folder): the message names the
     path and the reason; callers that keep partial work add what was kept."""
+
+
+class Stopped(Exception):
+    """A training run stopped by a signal (SIGTERM, Ctrl-C) after a complete update, which it checkpointed: `--resume`
+    continues it. The CLI prints it as one line and exits with 128 + the signal's number, as a shell reports a
+    process that signal ended."""
+
+    def __init__(self, message: str, signum: int):
+        super().__init__(message)
+        self.exit_code = 128 + signum

@@ -17,7 +17,7 @@ from helpers.disks import fill, make_read_only, small_disk
 from helpers.levelsets import FILES, small_levelset
 from helpers.runs import EVAL_LEVEL, TINY, set_args
 from kinetix_cli.errors import WriteError
-from kinetix_cli.rl import train as training
+from kinetix_cli.rl import record as recording
 from kinetix_cli.rl.agents import load_policy
 
 PRETRAIN = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
@@ -32,14 +32,14 @@ def test_a_full_disk_during_training_keeps_the_last_checkpoint_and_resume_finish
 ):
     with small_disk(tmp_path / "disk") as disk:
         run = disk / "run"
-        save = training.save_runner
+        save = recording.save_runner
 
         def fill_before_checkpoint_4(manager, update, runner):
             if update == 4:
                 fill(disk)
             save(manager, update, runner)
 
-        monkeypatch.setattr(training, "save_runner", fill_before_checkpoint_4)
+        monkeypatch.setattr(recording, "save_runner", fill_before_checkpoint_4)
         line = kinetix(capfd, *PRETRAIN, "--run-dir", run).error_line  # one line: orbax's own reports are dropped
         assert line.startswith(f"error: --run-dir {run}: cannot write update 4: No space left on device; ")
         assert line.endswith(

@@ -16,7 +16,7 @@ from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
 from kinetix_cli.cli.console import console, say, show_warning
 from kinetix_cli.cli.validation import validation_app
-from kinetix_cli.errors import UserError
+from kinetix_cli.errors import Stopped, UserError
 
 app = typer.Typer(no_args_is_help=True, add_completion=False, help="kinetix: open-ended 2D physics RL in JAX.")
 app.add_typer(levels.commands)
@@ -51,7 +51,8 @@ def demo(seconds: float = typer.Option(4.0, min=0.5, help="Simulated seconds."))
 
 
 def main() -> None:
-    """Entry point: run the app; user errors print one line and exit with code 2.
+    """Entry point: run the app; user errors print one line and exit with code 2; a training run stopped by a
+    signal prints one line and exits with 128 + the signal's number.
 
     Compiled functions are cached on disk (`~/.cache/kinetix/jax`, or $JAX_COMPILATION_CACHE_DIR; set it
     to an empty string to turn the cache off), so a second run of a command skips most of its compile time.
@@ -63,6 +64,9 @@ def main() -> None:
         code = app(standalone_mode=False)
     except UserError as exc:
         say(("error:", "red"), f" {exc}", stderr=True)
+        sys.exit(exc.exit_code)
+    except Stopped as exc:  # a training run told to stop by a signal, checkpointed
+        say(str(exc), stderr=True)
         sys.exit(exc.exit_code)
     except typer.Abort:  # Ctrl-C
         say("aborted", stderr=True)

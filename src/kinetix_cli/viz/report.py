@@ -34,7 +34,7 @@ from kinetix_cli.provenance import environment_info
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS
 from kinetix_cli.rl.evaluate import read_evaluation
-from kinetix_cli.rl.train import EVALUATIONS, VERSIONS_FILE
+from kinetix_cli.rl.record import EVALUATIONS, VERSIONS_FILE
 from kinetix_cli.viz.buffer import buffer_levels
 from kinetix_cli.viz.contact_sheet import contact_sheet
 from kinetix_cli.viz.curves import (

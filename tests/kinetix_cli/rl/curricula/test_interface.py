@@ -10,7 +10,7 @@ import typing
 import pytest
 
 from kinetix_cli.config import CurriculumName, CurriculumSettings
-from kinetix_cli.rl import train
+from kinetix_cli.rl import launch, record, train
 from kinetix_cli.rl.curricula import CURRICULA, Curriculum, curriculum_class
 from kinetix_cli.rl.curricula.base import Curriculum as Base
 
@@ -30,8 +30,9 @@ def test_a_curriculum_without_a_buffer_checkpoints_none(name):
     assert curriculum.buffer_size == (0 if name == "dr" else 8)
 
 
-def test_the_training_loop_never_asks_which_curriculum_it_has():
-    tree = ast.parse(inspect.getsource(train))
+@pytest.mark.parametrize("module", [launch, record, train], ids=lambda m: m.__name__)
+def test_the_training_loop_never_asks_which_curriculum_it_has(module):
+    tree = ast.parse(inspect.getsource(module))
     names = [node for node in ast.walk(tree) if isinstance(node, ast.Attribute) and node.attr == "name"]
     asked = [ast.unparse(node) for node in names if "curriculum" in ast.unparse(node.value)]
     assert asked == []
