@@ -151,9 +151,17 @@ def render(
     console.print(f"wrote {out}")
 
 
+MAX_TILES = 16
+"""Most levels `kinetix rollout` draws in one GIF."""
+
+
 @commands.command()
 def rollout(
-    level: Path = typer.Argument(..., help="Level file."),
+    levels: list[Path] = typer.Argument(
+        ...,
+        help="Level files, folders of them or a named suite (s, m, l, validation, test); several play side by side "
+        "in one GIF.",
+    ),
     policy: str = typer.Option(
         "solution",
         help="noop, random, solution (the level's stored actions), a run or agent folder, or a shipped agent "
@@ -163,46 +171,76 @@ def rollout(
     seed: int = typer.Option(
         0, min=0, max=INT32_MAX, help="Seed of the random policy, or of a trained policy's sampled actions."
     ),
-    scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF."),
+    scale: float = typer.Option(80, min=10, max=400, help="Pixels per metre of the GIF (of each tile)."),
+    columns: int = typer.Option(
+        None,
+        min=1,
+        max=MAX_TILES,
+        help="Tiles per row of a GIF of several levels (default: a square grid, 2 for 4 levels).",
+    ),
 ) -> None:
-    """Play one episode of a level and print its return and whether it was solved; optionally as a GIF.
+    """Play one episode of each level and print its return and whether it was solved; optionally as a GIF.
 
-    A trained policy plays in its run's environment (frame skip, episode cap, shaping, observation, action)."""
+    A trained policy plays in its run's environment (frame skip, episode cap, shaping, observation, action).
+    Every level is played on its own with the same policy and seed, as if it were the only one: several levels
+    make one GIF of their episodes in a grid (--columns), each tile captioned with its size and how it ended, an
+    episode that ends early holding its last frame. Example: the shipped default agent on four of the paper's
+    levels (after `make reference-levels`):
+
+        kinetix rollout .cache/reference-levels/s/h7_unicycle_left.json .cache/reference-levels/m/h2_car_right.json
+        --policy general --seed 0 -o agent.gif"""
     if out is not None:
         check_output_file(out, "-o")
     import jax
 
     from kinetix_cli.env.episode import open_loop
     from kinetix_cli.env.factory import make_env
-    from kinetix_cli.levels.files import load_level
+    from kinetix_cli.levels.files import level_paths, load_level
     from kinetix_cli.levels.solution import OPEN_LOOP_POLICIES, SOLUTION_SETTINGS, open_loop_actions
     from kinetix_cli.rl.agents import load_policy, shipped_names
     from kinetix_cli.viz.render import save_gif
-    from kinetix_cli.viz.rollout import episode_frames, record_episode
+    from kinetix_cli.viz.rollout import record_episode, rollout_frames
 
-    spec = load_level(level)
+    paths = level_paths(levels)
+    if out is not None and len(paths) > MAX_TILES:
+        raise UserError(f"rollout: {len(paths)} levels, but one GIF shows at most {MAX_TILES}")
     if policy in OPEN_LOOP_POLICIES:
-        env, params = make_env(SOLUTION_SETTINGS, spec.default_static())
-        horizon = SOLUTION_SETTINGS.max_steps
-        act = open_loop(jax.numpy.asarray(open_loop_actions(spec, policy, horizon, seed)))
+        loaded = None
     elif Path(policy).is_dir() or policy in shipped_names():
         loaded = load_policy(policy)
-        env, params = loaded.env_for(spec.default_size(), str(level))
-        horizon, act = loaded.config.env.max_steps, loaded.act
     else:
         choices = ", ".join([*OPEN_LOOP_POLICIES, *shipped_names()])
         raise UserError(f"--policy: {policy!r} is not one of {choices} nor a run or agent folder")
-    episode = record_episode(env, params, spec.build(env.static), act, jax.random.key(seed), horizon)
-    ending = (episode.ending, {"solved": "green", "failed": "red"}.get(episode.ending, ""))
-    say(
-        f"{spec.name}: policy {policy}: ",
-        ending,
-        f" after {episode.length} steps ({episode.length * episode.step_seconds:.2f} s), "
-        f"return {episode.total_return:+.3f}",
-    )
-    if out is not None:
-        save_gif(episode_frames(spec.name, episode, scale=scale), out, fps=1.0 / episode.step_seconds)
-        console.print(f"wrote {out} ({episode.length + 1} frames)")
+    games = []  # every level's environment and policy first, so a bad level stops the command before any play
+    for path in paths:
+        spec = load_level(path)
+        if loaded is None:
+            env, params = make_env(SOLUTION_SETTINGS, spec.default_static())
+            horizon = SOLUTION_SETTINGS.max_steps
+            act = open_loop(jax.numpy.asarray(open_loop_actions(spec, policy, horizon, seed)))
+        else:
+            env, params = loaded.env_for(spec.default_size(), str(path))
+            horizon, act = loaded.config.env.max_steps, loaded.act
+        games.append((spec, env, params, spec.build(env.static), horizon, act))
+    played = []
+    for spec, env, params, level, horizon, act in games:
+        episode = record_episode(env, params, level, act, jax.random.key(seed), horizon)
+        ending = (episode.ending, {"solved": "green", "failed": "red"}.get(episode.ending, ""))
+        say(
+            f"{spec.name}: policy {policy}: ",
+            ending,
+            f" after {episode.length} steps ({episode.length * episode.step_seconds:.2f} s), "
+            f"return {episode.total_return:+.3f}",
+        )
+        played.append((spec, episode))
+    if len(played) > 1:
+        console.print(f"solved {sum(e.solved for _, e in played)} of {len(played)} levels")
+    if out is None:
+        return
+    tiles = [(spec.name, spec.default_size(), episode) for spec, episode in played]
+    frames, fps = rollout_frames(tiles, scale=scale, columns=columns)
+    save_gif(frames, out, fps=fps)
+    console.print(f"wrote {out} ({len(frames)} frames)")
 
 
 @levels_app.command("list")
