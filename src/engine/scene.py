@@ -1,15 +1,32 @@
 """Host-side scene builder: describe bodies, joints and thrusters in plain Python, build device `State`.
 
-Example::
-
-    scene = Scene()
-    car = scene.add_box((1.0, 1.0), size=(1.0, 0.3), role=1)
-    wheel = scene.add_circle((0.7, 0.7), radius=0.2)
-    scene.add_revolute_joint(car, wheel, anchor=(0.7, 0.7), motor_speed=1.0, motor_power=1.0)
-    state = scene.build(SIZES["m"])
-
 Positions, anchors and angles are given in world coordinates [m, rad] at build time. Every invalid
 description raises `SceneError` naming the entity and the field.
+
+Examples:
+    A green car body on a motorised wheel, built at size m (6 polygon slots, the first 4 the arena's, then 3
+    circle slots):
+
+    >>> from engine import SIZES
+    >>> scene = Scene()
+    >>> car = scene.add_box((1.0, 1.0), size=(1.0, 0.3), role=1)
+    >>> wheel = scene.add_circle((0.7, 0.7), radius=0.2)
+    >>> scene.add_revolute_joint(car, wheel, anchor=(0.7, 0.7), motor_speed=1.0, motor_power=1.0)
+    0
+    >>> state = scene.build(SIZES["m"])
+    >>> state.bodies.position.shape
+    (9, 2)
+    >>> scene.slot(car, SIZES["m"]), scene.slot(wheel, SIZES["m"])
+    (4, 6)
+
+    A description is checked when it is built:
+
+    >>> scene.add_circle((4.0, 1.0), radius=0.2, role=5)
+    BodyRef(kind='circle', index=1)
+    >>> scene.build(SIZES["m"])
+    Traceback (most recent call last):
+    ...
+    engine.scene.SceneError: circle 'circle 1': role: must be 0 (neutral), 1 (green), 2 (blue) or 3 (red), got 5
 """
 
 from __future__ import annotations

@@ -1,9 +1,5 @@
 """Kinetix for Gymnasium: a vector environment stepping the JAX environment in batches, and a single environment.
 
-    import gymnasium, kinetix_cli.gym  # registers kinetix/Kinetix-v0
-    envs = gymnasium.make_vec("kinetix/Kinetix-v0", num_envs=64, levels="s")
-    env = gymnasium.make("kinetix/Kinetix-v0", levels="s", render_mode="rgb_array")
-
 Keyword arguments are `kinetix_cli.gym.make`'s (levels, size, observation, action, frame_skip, max_steps,
 dense_reward_scale, fresh_levels) and `render_mode` (None or "rgb_array"). Observations, rewards and flags are numpy
 arrays; actions are numpy arrays too. The vector environment resets an ended episode in the same step (Gymnasium's
@@ -15,6 +11,16 @@ truncated by the environment itself at `max_steps`.
 With `levels="fresh"` both draw a new batch of fresh levels (`KinetixGymnax.refresh_levels`) each time as many
 episodes have started since the last batch as a batch holds (`fresh_levels`), and at each reset with a seed, so that
 a seed gives the same levels.
+
+Examples:
+    >>> import gymnasium
+    >>> import kinetix_cli.gym  # registers kinetix/Kinetix-v0
+    >>> envs = gymnasium.make_vec("kinetix/Kinetix-v0", num_envs=64, levels="s")
+    >>> envs.observation_space.shape, envs.single_action_space
+    ((64, 140), MultiDiscrete([3 3 3 3 2 2]))
+    >>> env = gymnasium.make("kinetix/Kinetix-v0", levels="s", render_mode="rgb_array")
+    >>> env.action_space
+    MultiDiscrete([3 3 3 3 2 2])
 """
 
 from __future__ import annotations

@@ -1,11 +1,5 @@
 """Write a device `Level` back out as a `kinetix-level/1` JSON value: the inverse of `parse.parse_level`.
 
-Example::
-
-    level = index_level(load_levelset("runs/levels-m").levels, 0)
-    data = export_level(level, SIZES["m"], name="random 0", description="a generated scene")
-    save_level("random-0.json", data)
-
 Every number is written with the fewest decimals that still load back to the same float32 (angles go out in
 degrees, anchors and thruster directions in world space, as the format has them), so generated levels stay
 readable. Inactive bodies, joints and thrusters are left out and the remaining ones keep their order, so a
@@ -18,6 +12,20 @@ word: the binding of a joint without a motor, of an auto motor or of an empty sl
 joint without a motor, limit angles of a joint without limits, and the warm-start impulses and contact cache (a
 built level starts them at zero). The level's engine constants are written as `params` overrides where they
 differ from the engine's defaults. Solutions live outside `Level` and are not written.
+
+Examples:
+    A shipped level written back out (`files.save_level(path, data)` writes it; `export_set_level` does the same
+    for a level of a generated set): its box comes back as a polygon, its bodies named by slot.
+
+    >>> from kinetix_cli.levels.files import load_level
+    >>> from kinetix_cli.levels.suites import suite_folder
+    >>> level = load_level(suite_folder("s") / "jet-ball-hop.json").build(SIZES["s"])
+    >>> data = export_level(level, SIZES["s"], name="jet ball hop", description="hop over the red wall")
+    >>> [body["name"] for body in data["bodies"]]
+    ['polygon-0', 'circle-0', 'circle-1']
+    >>> data["bodies"][0]  # the file's box "wall"
+    {'name': 'polygon-0', 'shape': 'polygon', 'position': [2.6, 0.9],
+     'vertices': [[-0.1, -0.5], [0.1, -0.5], [0.1, 0.5], [-0.1, 0.5]], 'role': 'red', 'fixed': True}
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """A level's stored solution and the open-loop baselines it is checked against.
 
-A level file's solution is run-length encoded multi-discrete actions::
+A level file's solution is run-length encoded multi-discrete actions:
 
     "solution": {"actions": [[[1, 0, 0, 0, 0, 0], 40], [[0, 0, 0, 0, 1, 0], 25]]}
 
@@ -8,6 +8,19 @@ each entry an action (see `kinetix_cli.env.actions`) and how many environment st
 last entry the no-op action is held. `check_level` replays the solution, a no-op policy and random policies
 with the one episode runner (`kinetix_cli.env.episode`). Solutions are recorded at the default environment
 settings (frame skip 2, 256 steps), with the level's own engine constants.
+
+Examples:
+    Motor binding 0 forward for 2 steps, then thruster binding 0 for 1; no-ops fill a horizon of 4 steps:
+
+    >>> solution = {"actions": [[[1, 0, 0, 0, 0, 0], 2], [[0, 0, 0, 0, 1, 0], 1]]}
+    >>> actions = decode_solution(solution, "level.json", horizon=4)
+    >>> actions
+    array([[1, 0, 0, 0, 0, 0],
+           [1, 0, 0, 0, 0, 0],
+           [0, 0, 0, 0, 1, 0],
+           [0, 0, 0, 0, 0, 0]], dtype=int32)
+    >>> encode_solution(actions, length=4) == solution
+    True
 """
 
 from __future__ import annotations

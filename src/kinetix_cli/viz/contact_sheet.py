@@ -1,9 +1,14 @@
 """Contact sheets: many levels side by side in one picture, each under its caption.
 
-Example::
+Examples:
+    Three shipped levels, two to a row, at 20 px/m; `render.save_png(sheet, "levels-s.png")` writes it:
 
-    levels = [(load_level(p).build(), p.stem) for p in sorted(Path("levels/m").glob("*.json"))]
-    save_png(contact_sheet(levels, columns=5), "levels-m.png")
+    >>> from kinetix_cli.levels.files import load_level
+    >>> from kinetix_cli.levels.suites import suite_folder
+    >>> paths = sorted(suite_folder("s").glob("*.json"))[:3]
+    >>> sheet = contact_sheet([(load_level(path).build(), path.stem) for path in paths], columns=2, scale=20)
+    >>> frame_size(20), sheet.size  # two rows of two tiles (the last one empty), 8 px gaps
+    ((104, 129), (232, 282))
 """
 
 from __future__ import annotations

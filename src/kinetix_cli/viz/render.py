@@ -1,17 +1,21 @@
 """Host-side pictures of one scene (numpy + Pillow): PNG stills and GIF replays for people.
 
-Example::
-
-    level = load_level("levels/m/car.json").build()
-    image = render_frame(level.physics, level.bindings, title="car", caption="t = 0.0 s")
-    save_png(image, "car.png")
-
 The picture shows the world x in [-0.1, 5.1] m, y in [0, 5.1] m at `scale` pixels per metre (y up) under
 a header strip with the title, the caption and a legend of the action bindings the scene uses. Shapes are
 filled by role (fixed shapes darker), revolute joints are rings coloured by their motor binding, fixed
 joints small crossed squares, thrusters nozzles coloured by binding whose flame grows with the action.
 World geometry is drawn `SUPERSAMPLE` times larger and downscaled with LANCZOS for smooth edges; text is
 drawn at the final resolution so it stays crisp.
+
+Examples:
+    A shipped level at 50 px/m; `save_png(image, "rocket-car-jump.png")` writes it:
+
+    >>> from kinetix_cli.levels.files import load_level
+    >>> from kinetix_cli.levels.suites import suite_folder
+    >>> level = load_level(suite_folder("s") / "rocket-car-jump.json").build()
+    >>> image = render_frame(level.physics, level.bindings, scale=50, title="rocket car jump", caption="t = 0.0 s")
+    >>> image.size, image.size == frame_size(50)
+    ((260, 282), True)
 """
 
 from __future__ import annotations
