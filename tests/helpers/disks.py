@@ -16,13 +16,13 @@ SIZE = "8m"
 
 
 @contextlib.contextmanager
-def small_disk(folder: Path) -> Iterator[Path]:
-    """A fresh tmpfs of `SIZE` mounted at `folder` (created) for the block; skips the test where this process
-    cannot mount one (not root, or a container that forbids it)."""
+def small_disk(folder: Path, size: str = SIZE) -> Iterator[Path]:
+    """A fresh tmpfs of `size` (default `SIZE`) mounted at `folder` (created) for the block; skips the test where
+    this process cannot mount one (not root, or a container that forbids it)."""
     folder.mkdir(parents=True, exist_ok=True)
     if os.geteuid() != 0:
         pytest.skip("mounting a small filesystem needs root (CI runs as root)")
-    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={SIZE}", "tmpfs", str(folder)], capture_output=True)
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)], capture_output=True)
     if mounted.returncode:
         pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
     try:

@@ -54,7 +54,16 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
     """Use `manager` to write checkpoints, and close it at the end. orbax reports a failed write (a full disk) in
     log records with stack traces from its background threads, then as an exception of `save_runner`, and again
     when the manager closes: the records are silenced and the close after a failure is quiet, so the caller's
-    one line is all the user sees. After a failure the partial checkpoint is removed (its space freed)."""
+    one line is all the user sees. After a failure the partial checkpoint is removed (its space freed).
+
+    orbax's writer threads and asyncio tasks can outlive the failure: a thread logs its error after the block has
+    ended, and asyncio reports each abandoned write task when it is garbage-collected, at any later moment. Those
+    reports name the unfinished checkpoint's folder, and `_UnfinishedWrites` drops them for the rest of the
+    process."""
+    for name in ("absl", "asyncio"):
+        logger = logging.getLogger(name)
+        if not any(isinstance(f, _UnfinishedWrites) for f in logger.filters):
+            logger.addFilter(_UnfinishedWrites())
     with _orbax_log_level(logging.CRITICAL):
         try:
             yield manager
@@ -64,6 +73,17 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
             remove_partial_checkpoints(Path(manager.directory).parent)
             raise
         manager.close()
+
+
+class _UnfinishedWrites(logging.Filter):
+    """Drops the log records about a checkpoint write that failed (their message or exception names an unfinished
+    checkpoint folder, `PARTIAL`): the run's one line already says what failed and what is kept."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        text = record.getMessage()
+        if record.exc_info and record.exc_info[1] is not None:
+            text += str(record.exc_info[1])
+        return PARTIAL not in text
 
 
 @contextlib.contextmanager
