@@ -3,10 +3,15 @@ runs.py the tiny training runs, whose pool and finished run directories are sess
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import os
+import platform
+import sys
 from pathlib import Path
 
 import jax
+import jaxlib
 import pytest
 
 from helpers.processes import FAST_CODEGEN, FAST_COMPILE
@@ -14,11 +19,33 @@ from helpers.runs import sfl_config, tiny_config
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
-COMPILE_CACHE = Path(__file__).resolve().parent.parent / ".cache" / "jax-tests"
-"""JAX's persistent compilation cache for the suite: one folder for both xdist workers and every `kinetix` process
-a test starts, so a program compiled once (the tiny run's update, a CLI command's evaluator) is read back by the
-others instead of compiled again. It only skips XLA's compile: tracing, and so every check of what is traced or
-how often, is unchanged. Kept between runs of one checkout (`make clean` removes it); a fresh clone starts empty."""
+
+def _compile_cache() -> Path:
+    """JAX's persistent compilation cache for the suite: one folder for both xdist workers and every `kinetix` process
+    a test starts, so a program compiled once (the tiny run's update, a CLI command's evaluator) is read back by the
+    others instead of compiled again. It only skips XLA's compile: tracing, and so every check of what is traced or
+    how often, is unchanged.
+
+    The folder is the user's (`$XDG_CACHE_HOME` or `~/.cache`, then `kinetix/jax-tests/<key>`), so every checkout
+    on the machine shares it and a fresh clone's `make test` reads what an earlier run compiled. The key names what
+    a compiled program depends on beyond its own text: the versions of Python, jax and jaxlib, and the processor
+    (model and instruction-set flags), so another machine or an upgrade starts a folder of its own. JAX reads a
+    damaged entry as a miss and compiles again. `KINETIX_TEST_CACHE=DIR` puts it elsewhere (`make test
+    KINETIX_TEST_CACHE=$(mktemp -d)` measures a cold run); `make clean` leaves it."""
+    override = os.environ.get("KINETIX_TEST_CACHE")
+    if override:
+        return Path(override)
+    cpu = ""
+    with contextlib.suppress(OSError):
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+        cpu = "\n".join(sorted({line for line in lines if line.startswith(("model name", "flags"))}))
+    what = f"{sys.version} {jax.__version__} {jaxlib.__version__} {platform.machine()} {cpu}"
+    key = hashlib.sha256(what.encode()).hexdigest()[:16]
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "kinetix" / "jax-tests" / f"jax-{jax.__version__}-{key}"
+
+
+COMPILE_CACHE = _compile_cache()
 
 
 # FAST_COMPILE (helpers.processes) is set for the suite and every process it starts: XLA skips most of its

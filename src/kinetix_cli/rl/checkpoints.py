@@ -19,6 +19,7 @@ import contextlib
 import hashlib
 import logging
 import shutil
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -59,7 +60,7 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
     orbax's writer threads and asyncio tasks can outlive the failure: a thread logs its error after the block has
     ended, and asyncio reports each abandoned write task when it is garbage-collected, at any later moment. Those
     reports name the unfinished checkpoint's folder, and `_UnfinishedWrites` drops them for the rest of the
-    process."""
+    process; after a failure, so does the warning of each of its coroutines that never ran."""
     for name in ("absl", "asyncio"):
         logger = logging.getLogger(name)
         if not any(isinstance(f, _UnfinishedWrites) for f in logger.filters):
@@ -68,6 +69,8 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
         try:
             yield manager
         except BaseException:
+            # the failed write's coroutines that never ran warn when collected, at any later moment
+            warnings.filterwarnings("ignore", message="coroutine .* was never awaited", category=RuntimeWarning)
             with contextlib.suppress(Exception):
                 manager.close()
             remove_partial_checkpoints(Path(manager.directory).parent)

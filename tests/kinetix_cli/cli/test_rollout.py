@@ -51,14 +51,15 @@ def test_one_level_keeps_its_single_episode_gif(tmp_path):
         assert image.size == frame_size(SCALE)
 
 
-def test_a_trained_policy_plays_levels_of_two_sizes_in_one_gif(tmp_path):
-    # the shipped default agent samples its actions: the s level, second after an m level, plays with --seed 1's own
-    # key, as alone (its seed-0 line differs, so a key derived per level would show)
-    gif = tmp_path / "mixed.gif"
-    args = ["rollout", UPHILL, EVAL_LEVEL, "--policy", "general", "--seed", "1", "--columns", "1"]
+def test_a_trained_policy_plays_levels_of_two_sizes_in_one_gif(tmp_path, tiny_run):
+    # a trained policy (the suite's tiny run, whose update and rollouts other tests compile too) samples its actions:
+    # the s level, second after an m level, plays with --seed 1's own key, as alone (its seed-0 line differs, so a key
+    # derived per level would show)
+    gif, policy = tmp_path / "mixed.gif", str(tiny_run)
+    args = ["rollout", UPHILL, EVAL_LEVEL, "--policy", policy, "--seed", "1", "--columns", "1"]
     result = runner.invoke(app, [*args, "--scale", str(SCALE), "-o", str(gif)])
     assert result.exit_code == 0, result.output
-    alone = {seed: runner.invoke(app, ["rollout", EVAL_LEVEL, "--policy", "general", "--seed", seed]) for seed in "01"}
+    alone = {seed: runner.invoke(app, ["rollout", EVAL_LEVEL, "--policy", policy, "--seed", seed]) for seed in "01"}
     assert _outcomes(alone["0"].output) != _outcomes(alone["1"].output)
     assert _outcomes(result.output)[1] == _outcomes(alone["1"].output)[0]
     w, h = frame_size(SCALE)

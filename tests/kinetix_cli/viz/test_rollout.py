@@ -132,13 +132,13 @@ def test_one_episode_is_its_own_frames_and_several_a_captioned_grid():
     scale = 20
     a, b = _still_episode("pad-to-pad.json", 4, solved=True), _still_episode("aim-then-fire.json", 2, solved=False)
     frames, fps = rollout_frames([("a", "s", a)], scale=scale)
-    assert fps == pytest.approx(10.0)
+    assert fps == pytest.approx(10.0, abs=1e-6)
     expected = episode_frames("a", a, scale=scale)
     assert len(frames) == len(expected) == 5
     for got, want in zip(frames, expected, strict=True):
         np.testing.assert_array_equal(np.asarray(got), np.asarray(want))
     frames, fps = rollout_frames([("a", "s", a), ("b", "s", b)], scale=scale, every=2)
-    assert fps == pytest.approx(5.0)
+    assert fps == pytest.approx(5.0, abs=1e-6)
     assert len(frames) == 3 + 5  # steps 0, 2, 4 of the longer episode, then a second (5 frames at 5/s) held
     w, h = frame_size(scale)
     assert frames[0].width == 2 * w + 3 * 6 and frames[0].height > h + 2 * 6  # one row, a caption strip under it
