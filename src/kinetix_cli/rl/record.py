@@ -80,6 +80,12 @@ class Recorder:
     """The first stop signal this process received, if any."""
     stopped: bool = False
     """Whether a stop signal ended the run (the primary process's decides for every process)."""
+    _files: tuple = dataclasses.field(default=(), init=False, repr=False)
+    """(checkpoint manager, metrics file, wandb run) while the recorder is open."""
+    _spent: bool = dataclasses.field(default=False, init=False, repr=False)
+    """Whether a resumed run had used up its budget before it started again."""
+    _started: float = dataclasses.field(default=0.0, init=False, repr=False)
+    """When the update in flight started (`time.perf_counter`)."""
 
     @property
     def settings(self) -> RunSettings:
@@ -118,7 +124,7 @@ class Recorder:
             self.solved = _solved_episodes(self.run_dir / METRICS_FILE)
         budget = self.settings.minutes * 60  # 0: none; the primary's clock decides for every process
         self._spent = bool(budget) and primary_decides("budget", self.trained >= budget)  # a resumed run used it up
-        self._manager, self._log, self._logger = manager, log, logger
+        self._files = (manager, log, logger)
         with log, writing(manager), self._hearing_stops():
             yield self
         if logger is not None:
@@ -176,20 +182,21 @@ class Recorder:
         if self.evaluator is not None and (update % self.settings.eval_every == 0 or last):
             evaluation = _evaluation(self.evaluator, runner.params, self.settings, self.run_dir, update)
             record |= _evaluation_metrics(evaluation)
+        manager, log, logger = self._files
         try:
             if is_primary():
                 if evaluation is not None:
                     atomic_write_json(self.run_dir / EVALUATIONS / f"{update}.json", evaluation, EVAL_FORMAT)
-                self._log.write(json.dumps(record) + "\n")
-                self._log.flush()
+                log.write(json.dumps(record) + "\n")
+                log.flush()
             every = self.settings.checkpoint_every
             if (every and update % every == 0) or self.finished:
-                save_runner(self._manager, update, runner)
+                save_runner(manager, update, runner)
                 self.kept = update
         except (OSError, UserError, ValueError) as exc:  # orbax reports a failed write as a ValueError
             raise _write_failed(self.run_dir, update, exc, self.kept) from None
-        if self._logger is not None:
-            self._logger.log(record, step=record["steps"])
+        if logger is not None:
+            logger.log(record, step=record["steps"])
         if self.progress is not None and is_primary():
             self.progress(record)
 
