@@ -56,6 +56,8 @@ def test_a_full_disk_during_training_keeps_the_last_checkpoint_and_resume_finish
         assert records(run) == records(tiny_run)
 
 
+@pytest.mark.slow  # a real process compiles and trains (~35 s): the filters it relies on are checked in make test
+# (tests/kinetix_cli/rl/test_checkpoints.py), a full disk during training above
 def test_a_disk_that_fills_during_a_checkpoint_is_one_line_to_the_end_of_the_process(tmp_path):
     """A real `kinetix pretrain` on a filesystem too small for its first checkpoint, which fails in orbax's array
     writes: the process prints its one line and nothing else, though orbax's writer threads, abandoned asyncio

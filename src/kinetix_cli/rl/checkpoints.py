@@ -18,7 +18,9 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import logging
+import os
 import shutil
+import traceback
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -58,9 +60,11 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
     one line is all the user sees. After a failure the partial checkpoint is removed (its space freed).
 
     orbax's writer threads and asyncio tasks can outlive the failure: a thread logs its error after the block has
-    ended, and asyncio reports each abandoned write task when it is garbage-collected, at any later moment. Those
-    reports name the unfinished checkpoint's folder, and `_UnfinishedWrites` drops them for the rest of the
-    process; after a failure, so does the warning of each of its coroutines that never ran."""
+    ended, and asyncio reports each abandoned write task or future when it is garbage-collected, at any later
+    moment. `_UnfinishedWrites` drops those reports for the rest of the process: the ones that name the unfinished
+    checkpoint's folder, and after a failure the ones whose exception was raised in orbax's code (a bare `OSError:
+    No space left on device` names no folder); after a failure, so does the warning of each of its coroutines that
+    never ran."""
     for name in ("absl", "asyncio"):
         logger = logging.getLogger(name)
         if not any(isinstance(f, _UnfinishedWrites) for f in logger.filters):
@@ -69,6 +73,7 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
         try:
             yield manager
         except BaseException:
+            _UnfinishedWrites.failed = True
             # the failed write's coroutines that never ran warn when collected, at any later moment
             warnings.filterwarnings("ignore", message="coroutine .* was never awaited", category=RuntimeWarning)
             with contextlib.suppress(Exception):
@@ -79,14 +84,23 @@ def writing(manager: ocp.CheckpointManager) -> Iterator[ocp.CheckpointManager]:
 
 
 class _UnfinishedWrites(logging.Filter):
-    """Drops the log records about a checkpoint write that failed (their message or exception names an unfinished
-    checkpoint folder, `PARTIAL`): the run's one line already says what failed and what is kept."""
+    """Drops the log records about a checkpoint write that failed: their message or exception names an unfinished
+    checkpoint folder (`PARTIAL`), or, once a write of this process has failed (`failed`), their exception was
+    raised in orbax's code. The run's one line already says what failed and what is kept."""
+
+    failed = False
 
     def filter(self, record: logging.LogRecord) -> bool:
         text = record.getMessage()
-        if record.exc_info and record.exc_info[1] is not None:
-            text += str(record.exc_info[1])
-        return PARTIAL not in text
+        error = record.exc_info[1] if record.exc_info else None
+        if error is not None:
+            text += str(error)
+        return PARTIAL not in text and not (self.failed and error is not None and _raised_in_orbax(error))
+
+
+def _raised_in_orbax(error: BaseException) -> bool:
+    frames = traceback.extract_tb(error.__traceback__)
+    return any(f"{os.sep}orbax{os.sep}" in frame.filename for frame in frames)
 
 
 @contextlib.contextmanager

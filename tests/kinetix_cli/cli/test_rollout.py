@@ -7,6 +7,7 @@ import json
 import re
 from pathlib import Path
 
+import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
@@ -51,6 +52,7 @@ def test_one_level_keeps_its_single_episode_gif(tmp_path):
         assert image.size == frame_size(SCALE)
 
 
+@pytest.mark.slow  # ~40 s: compiles a policy episode at size m; make test keeps the grid (two s tiles, above)
 def test_a_trained_policy_plays_levels_of_two_sizes_in_one_gif(tmp_path, tiny_run):
     # a trained policy (the suite's tiny run, whose update and rollouts other tests compile too) samples its actions:
     # the s level, second after an m level, plays with --seed 1's own key, as alone (its seed-0 line differs, so a key
