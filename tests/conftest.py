@@ -3,19 +3,15 @@ runs.py the tiny training runs, whose pool and finished run directories are sess
 
 from __future__ import annotations
 
-import contextlib
-import hashlib
 import os
-import platform
-import sys
 from pathlib import Path
 
 import jax
-import jaxlib
 import pytest
 
 from helpers.processes import FAST_CODEGEN, FAST_COMPILE
 from helpers.runs import sfl_config, tiny_config
+from kinetix_cli import compile_cache
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
@@ -26,23 +22,13 @@ def _compile_cache() -> Path:
     others instead of compiled again. It only skips XLA's compile: tracing, and so every check of what is traced or
     how often, is unchanged.
 
-    The folder is the user's (`$XDG_CACHE_HOME` or `~/.cache`, then `kinetix/jax-tests/<key>`), so every checkout
-    on the machine shares it and a fresh clone's `make test` reads what an earlier run compiled. The key names what
-    a compiled program depends on beyond its own text: the versions of Python, jax and jaxlib, and the processor
-    (model and instruction-set flags), so another machine or an upgrade starts a folder of its own. JAX reads a
-    damaged entry as a miss and compiles again. `KINETIX_TEST_CACHE=DIR` puts it elsewhere (`make test
-    KINETIX_TEST_CACHE=$(mktemp -d)` measures a cold run); `make clean` leaves it."""
+    The folder is the user's, as `kinetix`'s own (`kinetix_cli.compile_cache`), under `kinetix/jax-tests/<key>`
+    (the suite compiles with other flags), so every checkout on the machine shares it and a fresh clone's `make test`
+    reads what an earlier run compiled; the key (versions and processor) starts a new folder after an upgrade.
+    `KINETIX_TEST_CACHE=DIR` puts it elsewhere (`make test KINETIX_TEST_CACHE=$(mktemp -d)` measures a cold run);
+    `make clean` leaves it."""
     override = os.environ.get("KINETIX_TEST_CACHE")
-    if override:
-        return Path(override)
-    cpu = ""
-    with contextlib.suppress(OSError):
-        lines = Path("/proc/cpuinfo").read_text().splitlines()
-        cpu = "\n".join(sorted({line for line in lines if line.startswith(("model name", "flags"))}))
-    what = f"{sys.version} {jax.__version__} {jaxlib.__version__} {platform.machine()} {cpu}"
-    key = hashlib.sha256(what.encode()).hexdigest()[:16]
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "kinetix" / "jax-tests" / f"jax-{jax.__version__}-{key}"
+    return Path(override) if override else compile_cache.user_folder("jax-tests")
 
 
 COMPILE_CACHE = _compile_cache()
@@ -69,13 +55,12 @@ def pytest_configure(config):
     codegen = os.environ.get(CODEGEN, "fast") or "fast"
     if codegen not in ("fast", "release"):
         raise pytest.UsageError(f'{CODEGEN}={codegen!r}: expected "fast" or "release"')
-    os.environ["JAX_COMPILATION_CACHE_DIR"] = str(COMPILE_CACHE)  # started processes inherit it
+    os.environ[compile_cache.VARIABLE] = str(COMPILE_CACHE)  # started `kinetix` processes inherit it
     if codegen == "fast":
         os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {FAST_CODEGEN}".strip()
         os.environ[FAST_COMPILE] = "1"
         jax.config.update("jax_disable_most_optimizations", True)
-    jax.config.update("jax_compilation_cache_dir", str(COMPILE_CACHE))
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+    compile_cache.enable(COMPILE_CACHE)
 
 
 @pytest.fixture(scope="session")

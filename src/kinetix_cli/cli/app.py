@@ -3,14 +3,13 @@
 
 from __future__ import annotations
 
-import os
 import sys
 import warnings
-from pathlib import Path
 
 import typer
 from rich.table import Table
 
+from kinetix_cli import compile_cache
 from kinetix_cli.cli import figures, generate, levels, studio, train
 from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
@@ -54,10 +53,10 @@ def main() -> None:
     """Entry point: run the app; user errors print one line and exit with code 2; a training run stopped by a
     signal prints one line and exits with 128 + the signal's number.
 
-    Compiled functions are cached on disk (`~/.cache/kinetix/jax`, or $JAX_COMPILATION_CACHE_DIR; set it
-    to an empty string to turn the cache off), so a second run of a command skips most of its compile time.
+    Compiled programs are cached on disk (`kinetix_cli.compile_cache`: `~/.cache/kinetix/jax/<versions>`;
+    `KINETIX_COMPILE_CACHE=DIR` or `off`), so a command run again skips XLA's compile of what it ran before.
     """
-    os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(Path.home() / ".cache" / "kinetix" / "jax"))
+    compile_cache.enable(compile_cache.cache_folder())
     warnings.showwarning = show_warning
     sys.unraisablehook = _quiet_closed_event_loops
     try:
