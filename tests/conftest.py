@@ -3,6 +3,7 @@ runs.py the tiny training runs, whose pool and finished run directories are sess
 
 from __future__ import annotations
 
+import gc
 import os
 from pathlib import Path
 
@@ -56,6 +57,11 @@ def pytest_configure(config):
     if codegen not in ("fast", "release"):
         raise pytest.UsageError(f'{CODEGEN}={codegen!r}: expected "fast" or "release"')
     os.environ[compile_cache.VARIABLE] = str(COMPILE_CACHE)  # started `kinetix` processes inherit it
+    # Tracing, not compiling, is most of the suite's JAX time (a full make test here: 520 s tracing and 280 s
+    # lowering against 240 s of XLA compile, summed over workers), and tracing makes many short-lived objects: with
+    # Python's garbage collector run less often, the tiny run's update traces and lowers ~8% faster (4.6-4.9 s
+    # against 5.1-5.2 s here).
+    gc.set_threshold(50_000, 50, 100)
     if codegen == "fast":
         os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {FAST_CODEGEN}".strip()
         os.environ[FAST_COMPILE] = "1"
