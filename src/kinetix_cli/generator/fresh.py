@@ -53,9 +53,14 @@ class FreshLevels:
         return jax.tree.map(lambda x: jnp.asarray(x)[None], empty_level(self.static))
 
 
+@functools.partial(jax.jit, static_argnums=(0, 1, 3))
 def fresh_levels(static: Static, sampler: SamplerConfig, key: jax.Array, count: int) -> Level:
     """`count` random levels (batched on the leading axis), valid ones first among `OVERSAMPLE * count`
-    candidates, in the order they were sampled. Pure and jittable; the same key gives the same levels."""
+    candidates, in the order they were sampled. Pure; the same key gives the same levels.
+
+    Jitted, so that inside a traced computation it is traced once per size, distribution and count: SFL's update
+    and its scoring each draw 128 fresh levels in the shipped recipe, and tracing the sampler was a quarter of a
+    cached command's start (`kinetix pretrain` of experiments/general.yaml, compile read from the cache)."""
     candidates = jax.vmap(functools.partial(sample_level, static, sampler))(jax.random.split(key, OVERSAMPLE * count))
     valid = jax.vmap(functools.partial(is_valid, static))(candidates)
     order = jnp.argsort(jnp.logical_not(valid).astype(jnp.int32), stable=True)[:count]
