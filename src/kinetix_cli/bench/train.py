@@ -7,6 +7,11 @@ The environments reset to random full levels of the size (`bench.env.random_leve
 heaviest case for the engine and for the entity models. Each model reads its first observation type in
 `constants.MODEL_OBSERVATIONS`. With several device counts (`devices`), each is measured on a mesh of that many
 local devices (`kinetix_cli.parallel`), the environments split across them.
+
+With `breakdown`, each measurement also says where the update's time goes (`bench.breakdown`: the environment
+alone, each phase alone, FLOPs and the machine's matmul limit), on one device. With `trace`, a JAX profiler trace
+of `TRACE_UPDATES` updates of each measurement is written under that folder, one subfolder per measurement
+(`trace_name`).
 """
 
 from __future__ import annotations
@@ -14,19 +19,25 @@ from __future__ import annotations
 import dataclasses
 import functools
 from collections.abc import Callable
+from pathlib import Path
 
 import jax
 
 from engine import SIZES
+from kinetix_cli.bench.breakdown import Breakdown, UpdateSetup, measure_breakdown, trace_updates
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.bench.timing import time_calls
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
 from kinetix_cli.constants import MODEL_NAMES, MODEL_OBSERVATIONS
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import UserError
+from kinetix_cli.io import check_output_dir
 from kinetix_cli.parallel import check_divisible, make_mesh, replicate, using
 from kinetix_cli.rl.networks import make_network, parameter_count
 from kinetix_cli.rl.ppo import init_runner, ppo_update
+
+TRACE_UPDATES = 3
+"""Updates in each measurement's profiler trace (`trace`), after the timed ones (compiled already)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -35,7 +46,7 @@ class TrainBenchConfig:
 
     Attributes:
         size: 's', 'm' or 'l'.
-        models: model names ('flat-mlp', 'pi-mlp', 'transformer').
+        models: model names (`constants.MODEL_NAMES`: 'flat-mlp', 'pi-mlp', 'rel-mlp', 'transformer').
         envs: numbers of parallel environments.
         num_steps: rollout length per environment per update.
         epochs, minibatches: PPO passes over each rollout and minibatches per pass.
@@ -44,6 +55,8 @@ class TrainBenchConfig:
         distinct_levels: random full levels the environments reset to.
         seed: seed of the levels, parameters and actions.
         devices: local device counts to measure on (None: all local devices).
+        breakdown: also measure where each update's time goes (`bench.breakdown`; one device only).
+        trace: folder for a JAX profiler trace of each measurement's updates (None: no trace).
     """
 
     size: str = "s"
@@ -58,11 +71,14 @@ class TrainBenchConfig:
     distinct_levels: int = 128
     seed: int = 0
     devices: tuple[int, ...] | None = None
+    breakdown: bool = False
+    trace: str | None = None
 
 
 @dataclasses.dataclass
 class TrainBenchResult:
-    """One measurement: whole PPO updates (rollout, GAE, epochs) in environment steps per second."""
+    """One measurement: whole PPO updates (rollout, GAE, epochs) in environment steps per second (`steps_per_s`,
+    the median), with `breakdown` where the update's time goes and `trace` the folder of its profiler trace."""
 
     model: str
     observation: str
@@ -73,6 +89,8 @@ class TrainBenchResult:
     steps_per_s: float
     calls: int
     devices: int = 1
+    breakdown: Breakdown | None = None
+    trace: str | None = None
 
 
 def experiment_for(config: TrainBenchConfig, model: str, envs: int) -> ExperimentConfig:
@@ -107,6 +125,10 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
     for mesh in meshes:
         for envs in config.envs:
             check_divisible(envs, mesh, "--envs")
+        if config.breakdown and mesh.size > 1:
+            raise UserError(f"--breakdown: measures on one device, not {mesh.size}; add --devices 1")
+    if config.trace is not None:
+        check_output_dir(config.trace, "--trace")
     pool = random_levels(SIZES[config.size], config.distinct_levels, config.seed)
     results = []
     for model in config.models:
@@ -126,7 +148,23 @@ def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> Tra
     update = functools.partial(ppo_update, env=env, network=network, settings=experiment.ppo)
     runner = init_runner(env, network, experiment.ppo, pool, replicate(jax.random.key(config.seed), mesh))
     step = functools.partial(update, env_params=replicate(env_params, mesh), levels=pool)
-    compile_s, rate, calls = time_calls(lambda r: (step(r)[0],), (runner,), envs * config.num_steps, config.min_time)
+    one_update = lambda r: (step(r)[0],)  # noqa: E731  (one function: the breakdown and trace reuse its compile)
+    compile_s, rate, calls = time_calls(one_update, (runner,), envs * config.num_steps, config.min_time)
     parameters = parameter_count(runner.params)
     observation = experiment.env.observation
-    return TrainBenchResult(model, observation, config.size, envs, parameters, compile_s, rate, calls, mesh.size)
+    result = TrainBenchResult(model, observation, config.size, envs, parameters, compile_s, rate, calls, mesh.size)
+    if config.breakdown:
+        setup = UpdateSetup(experiment, env, env_params, network, pool)
+        update_ms = 1e3 * envs * config.num_steps / rate
+        result.breakdown = measure_breakdown(
+            setup, runner, one_update, update_ms, config.min_time, config.seed, config.distinct_levels
+        )
+    if config.trace is not None:
+        result.trace = str(Path(config.trace) / trace_name(result))
+        trace_updates(one_update, runner, result.trace, TRACE_UPDATES)
+    return result
+
+
+def trace_name(result: TrainBenchResult) -> str:
+    """The subfolder of a measurement's trace: model, size, environments and devices."""
+    return f"{result.model}-{result.size}-envs{result.envs}-devices{result.devices}"

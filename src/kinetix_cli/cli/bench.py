@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
-from rich.table import Table
+from rich.table import Column, Table
 
 from kinetix_cli.cli.console import console, int_list, name_list
 from kinetix_cli.constants import INT32_MAX
@@ -156,10 +156,14 @@ def bench_train_command(
     min_time: float = typer.Option(5.0, min=0.0, max=3600.0, help="Seconds of timed updates per measurement."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the levels, parameters and actions."),
     devices: str = typer.Option(None, help="Comma-separated local device counts to measure on (default: all)."),
+    breakdown: bool = typer.Option(
+        False, "--breakdown", help="Also time each phase alone, the env alone, FLOPs and the matmul limit (1 device)."
+    ),
+    trace: Path = typer.Option(None, "--trace", help="Write a JAX profiler trace of a few updates per model here."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """PPO training env steps per second and compile time per model (whole jitted updates), on all local
-    devices or per device count (--devices 1,2)."""
+    devices or per device count (--devices 1,2); with --breakdown, where an update's time goes."""
     if json_path is not None:
         check_output_file(json_path, "--json")
     from kinetix_cli.bench.train import TrainBenchConfig, bench_train
@@ -176,6 +180,8 @@ def bench_train_command(
         min_time=min_time,
         seed=seed,
         devices=None if devices is None else int_list("--devices", devices),
+        breakdown=breakdown,
+        trace=None if trace is None else str(trace),
     )
     table = Table("model", "observation", "size", "envs", "devices", "parameters", "compile [s]", "env steps/s")
 
@@ -190,7 +196,42 @@ def bench_train_command(
 
     results = bench_train(config, report)
     console.print(table)
+    for r in results:
+        if r.breakdown is not None:
+            console.print(_breakdown_table(r))
+        if r.trace is not None:
+            console.print(f"trace of {r.model}: {r.trace}")
     _write_bench_json(json_path, config, results)
+
+
+def _breakdown_table(r) -> Table:
+    """One measurement's breakdown (`bench.breakdown.Breakdown`): the whole update, the environment alone, each
+    phase, and the matmul limit, with time, share, env steps/s, FLOPs and the share of the float32 matmul limit."""
+    b = r.breakdown
+    title = f"{r.model}, size {r.size}, {r.envs} envs ({r.observation}): one update"
+    table = Table("ms", "share", "env steps/s", "GFLOP", "GFLOP/s", "f32 limit", title=title)
+    table.columns.insert(0, Column("part", no_wrap=True))
+    limit = lambda rate: f"{rate / b.f32_limit_gflop_per_s:.1%}"  # noqa: E731
+    whole = (f"{b.update_ms:.1f}", "100%", f"{r.steps_per_s:,.0f}", f"{b.update_gflop:.3g}")
+    table.add_row("update", *whole, f"{b.update_gflop_per_s:.3g}", limit(b.update_gflop_per_s))
+    table.add_row("env alone", f"{b.env_only_ms:.1f}", "", f"{b.env_only_steps_per_s:,.0f}", "", "", "")
+    for p in b.phases:
+        name = f"forward x{b.applies_per_step}" if p.name == "rollout forward" else p.name
+        rate = p.gflop / (p.ms / 1e3)
+        flops = (f"{p.gflop:.3g}", f"{rate:.3g}", limit(rate)) if p.gflop else ("", "", "")
+        table.add_row(name, f"{p.ms:.1f}", f"{p.share:.0%}", "", *flops)
+    table.add_row("phases summed", f"{b.phase_sum_ms:.1f}", f"{b.phase_sum_ms / b.update_ms:.0%}", "", "", "", "")
+    for m in b.matmuls:
+        name = f"{'f32' if m.dtype == 'float32' else 'bf16'} {'x'.join(str(n) for n in m.shape)}"
+        table.add_row(name, "", "", "", "", f"{m.gflop_per_s:.3g}", limit(m.gflop_per_s))
+    counted = "times their trip counts" if b.loops_counted else "counted once"
+    table.caption = (
+        f"Phases compiled alone; XLA fuses them in the update, so they need not sum to it. Forward: "
+        f"{b.applies_per_step} network applies per rollout step. Matmul rows: the f32 and bf16 limit at the "
+        f"update's shapes (rows x inner x cols); best {b.best_limit_gflop_per_s:.3g} GFLOP/s. XLA's own cost of "
+        f"the compiled update: {b.xla_update_gflop:.3g} GFLOP (loop bodies {counted})."
+    )
+    return table
 
 
 @bench_app.command("generate")

@@ -1,0 +1,111 @@
+"""`kinetix bench train --breakdown` and `--trace`: where an update's time goes, its FLOPs and the matmul limit;
+bad options are one-line errors before anything compiles."""
+
+from __future__ import annotations
+
+import json
+import types
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from kinetix_cli.bench.breakdown import PHASES, UpdateSetup, matmul_shapes, xla_flops
+from kinetix_cli.bench.train import TrainBenchConfig, bench_train, experiment_for
+from kinetix_cli.cli.app import main
+from kinetix_cli.errors import UserError
+
+TINY = {"envs": (4,), "num_steps": 4, "epochs": 1, "minibatches": 2, "width": 8, "layers": 1, "min_time": 0.0}
+
+
+def _run_main(monkeypatch, capsys, *args):
+    monkeypatch.setattr("sys.argv", ["kinetix", *args])
+    with pytest.raises(SystemExit) as info:
+        main()
+    return info.value.code, capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("where", "message"),
+    [
+        ("file", "--trace {tmp}/file: is a file, not a folder"),
+        ("file/inside", "{tmp}/file/inside: cannot be created: {tmp}/file is not a folder"),  # io: no flag named
+    ],
+)
+def test_bad_trace_folder_exits_2_with_one_line(monkeypatch, capsys, tmp_path, where, message):
+    (tmp_path / "file").write_text("not a folder")
+    code, out = _run_main(monkeypatch, capsys, "bench", "train", "--breakdown", "--trace", str(tmp_path / where))
+    assert code == 2
+    assert message.format(tmp=tmp_path) in out.err
+    assert "Traceback" not in out.err and len(out.err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    ("change", "flag"),
+    [({"size": "xl"}, "--size"), ({"models": ("cnn",)}, "--models"), ({"minibatches": 3}, "--minibatches")],
+)
+def test_breakdown_rejects_impossible_sizes(change, flag):
+    with pytest.raises(UserError, match=flag):
+        bench_train(TrainBenchConfig(**(TINY | change), breakdown=True))
+
+
+def test_breakdown_refuses_several_devices(monkeypatch):
+    monkeypatch.setattr("kinetix_cli.bench.train.make_mesh", lambda count: types.SimpleNamespace(size=2))
+    with pytest.raises(UserError, match="--breakdown: measures on one device, not 2; add --devices 1"):
+        bench_train(TrainBenchConfig(**TINY, breakdown=True, devices=(2,)))
+
+
+def test_xla_flops_of_a_matmul_is_its_multiply_adds():
+    a, b = jnp.ones((16, 32)), jnp.ones((32, 8))
+    assert xla_flops(jax.jit(jnp.matmul).lower(a, b).compile()) == 2 * 16 * 32 * 8
+
+
+@pytest.mark.parametrize(
+    ("cost", "flops"), [({"flops": 6.0}, 6.0), ([{"flops": 2.0}, {"flops": 4.0}], 6.0), ([{}], 0.0), (None, 0.0)]
+)
+def test_xla_flops_reads_a_dict_or_a_list_of_dicts(cost, flops):
+    assert xla_flops(types.SimpleNamespace(cost_analysis=lambda: cost)) == flops
+
+
+def test_matmul_shapes_follow_the_first_layer_and_the_hidden_layers():
+    config = TrainBenchConfig(**(TINY | {"envs": (16,), "width": 32}))  # minibatch: 16 x 4 / 2 = 32 rows
+    flat = _setup(experiment_for(config, "flat-mlp", 16))
+    assert matmul_shapes(flat, {"obs": np.zeros((16, 30), np.float32)}) == [(32, 30, 32), (32, 32, 32)]
+    entities = {
+        "polygons": np.zeros((16, 5, 27), np.float32),  # the widest entity features: 5 per row
+        "circles": np.zeros((16, 3, 20), np.float32),
+        "gravity": np.zeros((16, 2), np.float32),
+        "mask": np.zeros((16, 5, 64), bool),
+    }
+    assert matmul_shapes(_setup(experiment_for(config, "rel-mlp", 16)), entities) == [(160, 27, 32), (32, 32, 32)]
+
+
+def _setup(experiment) -> UpdateSetup:
+    return UpdateSetup(experiment, env=None, env_params=None, network=None, pool=None)
+
+
+# ~90 s on a loaded 2-core VM (compiles the update, the rollout, each phase and the env alone): make test-all
+@pytest.mark.slow
+def test_breakdown_and_trace_of_rel_mlp_through_the_cli(monkeypatch, capsys, tmp_path):
+    out, trace = tmp_path / "train.json", tmp_path / "trace"
+    args = ["bench", "train", "--breakdown", "--trace", str(trace), "--models", "rel-mlp", "--envs", "4"]
+    args += ["--steps", "4", "--epochs", "1", "--minibatches", "2", "--width", "8", "--layers", "1"]
+    code, printed = _run_main(monkeypatch, capsys, *args, "--min-time", "0", "--json", str(out))
+    assert code == 0, printed.err
+    assert "rel-mlp, size s, 4 envs (symbolic-entity): one update" in printed.out
+    (row,) = json.loads(out.read_text())["results"]
+    assert row["model"] == "rel-mlp" and row["steps_per_s"] > 0  # the fields without --breakdown stay
+    b = row["breakdown"]
+    assert [p["name"] for p in b["phases"]] == list(PHASES)
+    assert all(p["ms"] > 0 and p["share"] > 0 for p in b["phases"])
+    assert b["applies_per_step"] == 2  # V(obs) and V(final observation) in `ppo.collect`
+    assert b["phase_sum_ms"] == pytest.approx(sum(p["ms"] for p in b["phases"]))
+    assert b["update_gflop"] >= b["learn_gflop"] > 0 and b["update_gflop_per_s"] > 0 and b["xla_update_gflop"] > 0
+    assert b["env_only_steps_per_s"] > 0 and b["env_only_ms"] > 0
+    assert {(tuple(m["shape"]), m["dtype"]) for m in b["matmuls"]} >= {((4 * 4 // 2, 8, 8), "float32")}
+    assert {m["dtype"] for m in b["matmuls"]} == {"float32", "bfloat16"} and len(b["matmuls"]) == 4
+    assert b["f32_limit_gflop_per_s"] > 0 and b["best_limit_gflop_per_s"] >= b["f32_limit_gflop_per_s"]
+    assert b["f32_limit_share"] == pytest.approx(b["update_gflop_per_s"] / b["f32_limit_gflop_per_s"])
+    assert row["trace"] == str(trace / "rel-mlp-s-envs4-devices1")
+    assert list((trace / "rel-mlp-s-envs4-devices1").rglob("*.xplane.pb"))
