@@ -42,15 +42,15 @@ def _kind(path: Path) -> str | None:
     return "folder" if stat.S_ISDIR(mode) else "special file"
 
 
-def _creatable(path: Path) -> None:
-    """Raise unless the nearest existing ancestor of `path` is a writable folder."""
+def _creatable(path: Path, flag: str) -> None:
+    """Raise (naming `flag`) unless the nearest existing ancestor of `path` is a writable folder."""
     parent = path.parent
     while _kind(parent) is None and parent != parent.parent:
         parent = parent.parent
     if _kind(parent) != "folder":
-        raise UserError(f"{path}: cannot be created: {parent} is not a folder")
+        raise UserError(f"{flag} {path}: cannot be created: {parent} is not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise UserError(f"{path}: cannot be created: {parent} is not writable")
+        raise UserError(f"{flag} {path}: cannot be created: {parent} is not writable")
 
 
 def check_output_file(path: str | os.PathLike | None, flag: str = "output") -> Path:
@@ -65,7 +65,7 @@ def check_output_file(path: str | os.PathLike | None, flag: str = "output") -> P
     if kind == "special file":
         raise UserError(f"{flag} {path}: is not a regular file (a FIFO, device or socket); kinetix does not replace it")
     if kind is None:
-        _creatable(path)
+        _creatable(path, flag)
     elif not os.access(path, os.W_OK) or not os.access(path.parent, os.W_OK | os.X_OK):
         raise UserError(f"{flag} {path}: is not writable")
     return path
@@ -81,7 +81,7 @@ def check_output_dir(path: str | os.PathLike | None, flag: str = "output folder"
     if kind in ("file", "special file"):
         raise UserError(f"{flag} {path}: is a {kind}, not a folder")
     if kind is None:
-        _creatable(path)
+        _creatable(path, flag)
     elif not os.access(path, os.W_OK | os.X_OK):
         raise UserError(f"{flag} {path}: is not writable")
     return path

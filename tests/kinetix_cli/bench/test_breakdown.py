@@ -30,7 +30,7 @@ def _run_main(monkeypatch, capsys, *args):
     ("where", "message"),
     [
         ("file", "--trace {tmp}/file: is a file, not a folder"),
-        ("file/inside", "{tmp}/file/inside: cannot be created: {tmp}/file is not a folder"),  # io: no flag named
+        ("file/inside", "--trace {tmp}/file/inside: cannot be created: {tmp}/file is not a folder"),
     ],
 )
 def test_bad_trace_folder_exits_2_with_one_line(monkeypatch, capsys, tmp_path, where, message):
