@@ -11,19 +11,12 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from helpers.cli import kinetix
 from kinetix_cli.bench.breakdown import PHASES, UpdateSetup, matmul_shapes, xla_flops
 from kinetix_cli.bench.train import TrainBenchConfig, bench_train, experiment_for
-from kinetix_cli.cli.app import main
 from kinetix_cli.errors import UserError
 
 TINY = {"envs": (4,), "num_steps": 4, "epochs": 1, "minibatches": 2, "width": 8, "layers": 1, "min_time": 0.0}
-
-
-def _run_main(monkeypatch, capsys, *args):
-    monkeypatch.setattr("sys.argv", ["kinetix", *args])
-    with pytest.raises(SystemExit) as info:
-        main()
-    return info.value.code, capsys.readouterr()
 
 
 @pytest.mark.parametrize(
@@ -33,9 +26,10 @@ def _run_main(monkeypatch, capsys, *args):
         ("file/inside", "--trace {tmp}/file/inside: cannot be created: {tmp}/file is not a folder"),
     ],
 )
-def test_bad_trace_folder_exits_2_with_one_line(monkeypatch, capsys, tmp_path, where, message):
+def test_bad_trace_folder_exits_2_with_one_line(capsys, tmp_path, where, message):
     (tmp_path / "file").write_text("not a folder")
-    code, out = _run_main(monkeypatch, capsys, "bench", "train", "--breakdown", "--trace", str(tmp_path / where))
+    out = kinetix(capsys, "bench", "train", "--breakdown", "--trace", str(tmp_path / where))
+    code = out.code
     assert code == 2
     assert message.format(tmp=tmp_path) in out.err
     assert "Traceback" not in out.err and len(out.err.strip().splitlines()) == 1
@@ -87,11 +81,12 @@ def _setup(experiment) -> UpdateSetup:
 
 # ~90 s on a loaded 2-core VM (compiles the update, the rollout, each phase and the env alone): make test-all
 @pytest.mark.slow
-def test_breakdown_and_trace_of_rel_mlp_through_the_cli(monkeypatch, capsys, tmp_path):
+def test_breakdown_and_trace_of_rel_mlp_through_the_cli(capsys, tmp_path):
     out, trace = tmp_path / "train.json", tmp_path / "trace"
     args = ["bench", "train", "--breakdown", "--trace", str(trace), "--models", "rel-mlp", "--envs", "4"]
     args += ["--steps", "4", "--epochs", "1", "--minibatches", "2", "--width", "8", "--layers", "1"]
-    code, printed = _run_main(monkeypatch, capsys, *args, "--min-time", "0", "--json", str(out))
+    printed = kinetix(capsys, *args, "--min-time", "0", "--json", str(out))
+    code = printed.code
     assert code == 0, printed.err
     assert "rel-mlp, size s, 4 envs (symbolic-entity): one update" in printed.out
     (row,) = json.loads(out.read_text())["results"]
