@@ -10,7 +10,9 @@ own `JAX_COMPILATION_CACHE_DIR`, when set, is used as JAX documents it: its fold
 
 Safety: the folder is bounded (`MAX_BYTES`, least recently used entries evicted), and every read and write takes
 the folder's file lock (`filelock`), so processes compiling at the same time never read an entry half written. A
-damaged entry is read as a miss: the program is compiled again and nothing is printed.
+damaged entry is read as a miss: the program is compiled again and nothing is printed. A folder copied or moved
+elsewhere is read as empty: JAX's key of an entry includes the folder's own path (seen with jax 0.10.2: a copy of a
+warm folder compiled everything again).
 """
 
 from __future__ import annotations
