@@ -10,7 +10,11 @@ own `JAX_COMPILATION_CACHE_DIR`, when set, is used as JAX documents it: its fold
 
 Safety: the folder is bounded (`MAX_BYTES`, least recently used entries evicted), and every read and write takes
 the folder's file lock (`filelock`), so processes compiling at the same time never read an entry half written. A
-damaged entry is read as a miss: the program is compiled again and nothing is printed. A folder copied or moved
+damaged entry is read as a miss: the program is compiled again and nothing is printed. An entry without its access
+time (`NAME-cache` without `NAME-atime`: its process was killed while writing it, or a cache without a size bound
+wrote it) is removed when a command starts (`remove_unfinished`): JAX's eviction reads every entry's access time
+before each write, so one such entry made every later write fail, silently (seen here: a killed test process left
+one, and the suite's folder stopped growing). A folder copied or moved
 elsewhere is read as empty: JAX's key of an entry includes the folder's own path (seen with jax 0.10.2: a copy of a
 warm folder compiled everything again).
 """
@@ -26,10 +30,14 @@ import warnings
 from importlib.metadata import version
 from pathlib import Path
 
+import filelock
+
 VARIABLE = "KINETIX_COMPILE_CACHE"
 """Environment variable: a folder for the cache, or `off`."""
 MAX_BYTES = 4 * 2**30
 """The cache folder's size bound: beyond it, the least recently used entries are removed."""
+CACHE_SUFFIX, ATIME_SUFFIX = "-cache", "-atime"
+"""The two files of an entry of JAX's bounded cache: the compiled program and the time it was last used."""
 MIN_COMPILE_S = 0.5
 """Programs that compile faster than this are not written (the many small programs of op-by-op code)."""
 
@@ -76,6 +84,7 @@ def enable(folder: Path | None) -> None:
         "jax_persistent_cache_min_compile_time_secs": MIN_COMPILE_S,
         "jax_compilation_cache_max_size": MAX_BYTES,  # turns on JAX's eviction and its file lock
     }
+    remove_unfinished(folder)
     for name, value in settings.items():
         if "jax" in sys.modules:
             sys.modules["jax"].config.update(name, value)
@@ -83,3 +92,21 @@ def enable(folder: Path | None) -> None:
             os.environ[name.upper()] = str(value)
     # a damaged entry is a miss and compiles again: nothing to tell
     warnings.filterwarnings("ignore", message="Error (reading|writing) persistent compilation cache entry")
+
+
+LOCK_TIMEOUT_S = 10
+"""How long `remove_unfinished` waits for the folder's lock (JAX's own wait) before leaving the folder as it is."""
+
+
+def remove_unfinished(folder: Path) -> list[Path]:
+    """Remove the entries of JAX's cache `folder` that have no access-time file (see the module's docstring), under
+    the folder's lock, so no entry another process is writing is touched. Returns the removed files."""
+    if not folder.is_dir():
+        return []
+    removed = []
+    with contextlib.suppress(filelock.Timeout), filelock.FileLock(folder / ".lockfile", timeout=LOCK_TIMEOUT_S):
+        for entry in folder.glob(f"*{CACHE_SUFFIX}"):
+            if not entry.with_name(entry.name.removesuffix(CACHE_SUFFIX) + ATIME_SUFFIX).exists():
+                entry.unlink(missing_ok=True)
+                removed.append(entry)
+    return removed

@@ -61,3 +61,18 @@ def test_a_damaged_entry_is_compiled_again_without_a_word(tmp_path):
     again = play(tmp_path / "cache")
     assert again.returncode == 0 and again.stderr == "", again.stderr[-2000:]
     assert again.stdout == first.stdout
+
+
+def test_an_entry_without_its_access_time_is_removed_so_jax_can_write_again(tmp_path):
+    from jax._src.lru_cache import LRUCache  # the cache JAX writes through with a size bound
+
+    (tmp_path / "kept-cache").write_bytes(b"program")
+    (tmp_path / "kept-atime").write_bytes(b"\0" * 8)
+    (tmp_path / "unfinished-cache").write_bytes(b"prog")  # its process was killed before it wrote the time
+    cache = LRUCache(str(tmp_path), max_size=2**20)
+    with pytest.raises(FileNotFoundError):  # JAX reads every entry's time before a write
+        cache.put("new", b"program")
+    assert compile_cache.remove_unfinished(tmp_path) == [tmp_path / "unfinished-cache"]
+    cache.put("new", b"program")
+    assert sorted(p.name for p in tmp_path.glob("*-*")) == ["kept-atime", "kept-cache", "new-atime", "new-cache"]
+    assert compile_cache.remove_unfinished(tmp_path / "absent") == []
