@@ -8,7 +8,6 @@ Examples:
     A ball dropped from 3 m, stepped for half a second (30 steps of `Params().dt` = 1/60 s); its height [m] and
     vertical velocity [m/s] are free fall's: y = 3 - g dt^2 n (n + 1) / 2, v = -g dt n for n = 30 steps.
 
-    >>> import jax
     >>> import jax.numpy as jnp
     >>> from engine import SIZES, Params, Scene, step
     >>> static = SIZES["s"]  # capacities; one compile per `Static`
@@ -16,9 +15,8 @@ Examples:
     >>> ball = scene.add_circle((2.5, 3.0), radius=0.2)
     >>> state = scene.build(static)
     >>> actions = jnp.zeros(static.num_actions)  # one per joint (motor), then one per thruster
-    >>> step_s = jax.jit(step, static_argnums=0)
-    >>> for _ in range(30):
-    ...     state, info = step_s(static, Params(), state, actions)
+    >>> for _ in range(30):  # `step` is jitted with `static` static: one compile per `Static`
+    ...     state, info = step(static, Params(), state, actions)
     >>> slot = scene.slot(ball, static)  # the ball's row in `state.bodies`
     >>> round(float(state.bodies.position[slot, 1]), 2), round(float(state.bodies.velocity[slot, 1]), 1)
     (1.73, -4.9)

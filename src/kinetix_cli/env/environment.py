@@ -3,7 +3,10 @@
 The interface, in the style of gymnax 1.0 and JaxUED (every function pure, jittable and vmappable):
 
 - `env = KinetixEnv(static, observation, action, frame_skip)`: frozen and hashable, so it is a static argument of
-  `jax.jit`; equal settings share one compile. `params = env.default_params` (`EnvParams`) is traced.
+  `jax.jit`; equal settings share one compile. `params = env.default_params` (`EnvParams`) is traced. Its
+  `reset_to_level`, `step_env`, `step` and `observe` are jitted with the environment static: inside a rollout, an
+  evaluation or curriculum scoring each is one nested call, traced once per environment and shared by every
+  program that steps it (XLA inlines it; what is computed is unchanged).
 - `obs, state = env.reset_to_level(level)`: start an episode from an explicit `Level`.
 - `obs, state, reward, terminated, truncated, info = env.step_env(state, action, params)`: one step, no reset.
 - `obs, state, reward, terminated, truncated, info = env.step(state, action, params, reset_level)`: one step;
@@ -21,6 +24,7 @@ first step, from the distance at reset). A state that stops being finite termina
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import jax
 import jax.numpy as jnp
@@ -141,6 +145,7 @@ class KinetixEnv:
         """`EnvParams()` (a property, as in gymnax)."""
         return EnvParams()
 
+    @functools.partial(jax.jit, static_argnums=0)  # self: frozen and hashable
     def reset_to_level(self, level: Level):
         """Start an episode from `level`. Returns (observation, EnvState)."""
         state = self.initial_state(level)
@@ -157,6 +162,7 @@ class KinetixEnv:
             distance=green_blue_distance(physics),
         )
 
+    @functools.partial(jax.jit, static_argnums=0)  # self: frozen and hashable
     def step_env(self, state: EnvState, action: jax.Array, params: EnvParams):
         """One environment step without reset.
 
@@ -193,6 +199,7 @@ class KinetixEnv:
         state = state.replace(physics=physics, steps=steps, distance=distance)
         return self.observe(state), state, reward, terminated, truncated, info
 
+    @functools.partial(jax.jit, static_argnums=0)  # self: frozen and hashable
     def step(self, state: EnvState, action: jax.Array, params: EnvParams, reset_level: Level):
         """One environment step; an episode that ends restarts from `reset_level`.
 
@@ -206,6 +213,7 @@ class KinetixEnv:
         state = select_episodes(terminated | truncated, self.initial_state(reset_level), stepped)
         return self.observe(state), state, reward, terminated, truncated, info | {"final_observation": final_obs}
 
+    @functools.partial(jax.jit, static_argnums=0)  # self: frozen and hashable
     def observe(self, state: EnvState):
         """The configured observation of a state."""
         if self.observation == "symbolic-flat":
