@@ -9,13 +9,13 @@ For one model and environment count, at exactly the update's shapes (`UpdateSetu
   (`bench.timing.time_calls`) on the transitions of one real rollout, in ms per update and as a share of the
   whole update's median:
   `env step` (the rollout's `num_steps` vmapped `env.step` calls, actions given, ended episodes restarting from
-  pool levels, the final observation read as the rollout reads it), `rollout forward` (the rollout's
-  `network.apply` calls on the num_steps x envs observations with action sampling; `applies_per_step` counts the
-  applies `ppo.collect` really makes, by tracing it), `GAE` (`ppo.gae`), `learn` (`ppo.learn`: the epochs'
-  forward, backward and Adam steps) and `host sync` (the `jax.device_get` of the update's metrics dict, as
-  `rl.record` does it). Inside one jitted update XLA fuses and overlaps the phases, and the rollout's stacking
-  of transitions belongs to no phase, so the phases need not sum to the whole: `phase_sum_ms` stands beside
-  `update_ms`;
+  pool levels, the final observation read as the rollout reads it), `rollout forward` (the rollout's network
+  passes as `ppo.collect` makes them: one on each step's observations with action sampling, and
+  `ppo.final_values` on the final observations of the rollout's truncated episodes), `GAE` (`ppo.gae`), `learn`
+  (`ppo.learn`: the epochs' forward, backward and Adam steps) and `host sync` (the `jax.device_get` of the
+  update's metrics dict, as `rl.record` does it). Inside one jitted update XLA fuses and overlaps the phases, and
+  the rollout's stacking of transitions belongs to no phase, so the phases need not sum to the whole:
+  `phase_sum_ms` stands beside `update_ms`;
 - FLOPs from XLA's own cost analysis of each compiled phase. XLA's cost analysis may count a loop's body once,
   whatever its trip count (this version's CPU backend does, at every nesting level); a probe (`loops_counted`)
   finds out, and each phase's figure is scaled by its own loops' trip counts (num_steps, or epochs x
@@ -46,7 +46,7 @@ from kinetix_cli.config import ExperimentConfig
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.parallel import batch_sharded
-from kinetix_cli.rl.ppo import Runner, Transition, collect, gae, learn, rollout_metrics
+from kinetix_cli.rl.ppo import Runner, Transition, collect, final_values, gae, learn, rollout_metrics, truncated_rows
 
 PHASES = ("env step", "rollout forward", "GAE", "learn", "host sync")
 """The phases of one update, in the order it runs them."""
@@ -113,7 +113,8 @@ class Breakdown:
         update_ms: median time of the whole jitted update [ms].
         env_only_steps_per_s: the environment alone at the same envs and observation [env steps/s].
         env_only_ms: the environment alone's time for the update's envs x num_steps steps [ms].
-        applies_per_step: `network.apply` calls per rollout step in `ppo.collect`.
+        final_value_rows: rows of the rollout's second pass per step, on the truncated episodes' final
+            observations when at most that many were truncated (`ppo.truncated_rows`; else a pass on all).
         phases: the phases in `PHASES` order.
         phase_sum_ms: the phases' times summed [ms] (fusion: not the update's time).
         update_gflop: the phases' FLOPs summed [GFLOP per update].
@@ -131,7 +132,7 @@ class Breakdown:
     update_ms: float
     env_only_steps_per_s: float
     env_only_ms: float
-    applies_per_step: int
+    final_value_rows: int
     phases: list[PhaseTime]
     phase_sum_ms: float
     update_gflop: float
@@ -154,7 +155,7 @@ def measure_breakdown(
     timed for; `seed` and `levels` are the level pool's, for the environment-only ceiling."""
     counted = loops_counted()
     xla_update = xla_flops(jax.jit(update).lower(runner).compile())  # cached when the update was timed
-    phases, applies = time_phases(setup, runner, update_ms, counted, min_time)
+    phases = time_phases(setup, runner, update_ms, counted, min_time)
     update_gflop = sum(p.gflop for p in phases)
     learn = phases[PHASES.index("learn")]
     matmuls = matmul_limits(matmul_shapes(setup, runner.obs), min(min_time, MATMUL_TIME))
@@ -165,7 +166,7 @@ def measure_breakdown(
         update_ms=update_ms,
         env_only_steps_per_s=env_only,
         env_only_ms=1e3 * setup.experiment.ppo.batch_size / env_only,
-        applies_per_step=applies,
+        final_value_rows=truncated_rows(setup.experiment.ppo.num_envs),
         phases=phases,
         phase_sum_ms=sum(p.ms for p in phases),
         update_gflop=update_gflop,
@@ -183,26 +184,25 @@ def measure_breakdown(
 
 def time_phases(
     setup: UpdateSetup, runner: Runner, update_ms: float, counted: bool, min_time: float
-) -> tuple[list[PhaseTime], int]:
+) -> list[PhaseTime]:
     """Every phase in `PHASES` compiled alone and timed on one rollout of `runner` (its transitions, advantages
-    and targets), and the network applies per rollout step. `counted`: whether XLA's cost analysis multiplies
+    and targets). `counted`: whether XLA's cost analysis multiplies
     loop bodies by their trip counts (`loops_counted`)."""
     settings = setup.experiment.ppo
     runner, transitions, finished = jax.jit(_rollout(setup))(runner)
     advantages, targets = jax.jit(gae, static_argnums=(1, 2))(transitions, settings.gamma, settings.gae_lambda)
     losses = _zero_losses(setup, runner, transitions, advantages, targets)
-    applies = applies_per_step(setup, runner)
     steps, passes = settings.num_steps, settings.update_epochs * settings.num_minibatches
     phase_runs = [  # (phase, its carry, trip count of its loops)
         (env_phase(setup), (runner.env_state, runner.obs, runner.key, _zero(), transitions.action), steps),
-        (forward_phase(setup.network, applies), (runner.params, transitions.obs, runner.key, _zero()), steps),
+        (forward_phase(setup.network), (runner.params, transitions, runner.key, _zero()), steps),
         (gae_phase(settings.gamma, settings.gae_lambda), (transitions, advantages, targets), steps),
         (learn_phase(setup), (runner, transitions, advantages, targets, losses), passes),
     ]
     timed = [_phase(fn, carry, trips, counted, min_time) for fn, carry, trips in phase_runs]
     timed.append((host_sync_ms(transitions, finished, losses), 0.0))
     phases = [PhaseTime(name, ms, ms / update_ms, flop / 1e9) for name, (ms, flop) in zip(PHASES, timed, strict=True)]
-    return phases, applies
+    return phases
 
 
 def trace_updates(update: Callable, runner: Runner, directory: str, count: int) -> None:
@@ -241,27 +241,28 @@ def env_phase(setup: UpdateSetup) -> Callable:
     return run
 
 
-def forward_phase(network: nn.Module, applies: int) -> Callable:
-    """(params, observations, key, checksum) -> the same after the rollout's network calls on the
-    (num_steps, envs, ...) `observations`: per step, `applies` applies (the first samples an action and its
-    log-probability, the others give values, as for the final observation), each on a different step's
-    observation so that XLA cannot merge them."""
+def forward_phase(network: nn.Module) -> Callable:
+    """(params, transitions, key, checksum) -> the same after the rollout's network passes on the (num_steps,
+    envs, ...) transitions of a real rollout, as `ppo.collect` makes them: per step, one on the step's
+    observations (sampling an action and its log-probability) and `ppo.final_values` on the next step's
+    observations in place of the final ones, for the step's truncated episodes."""
 
-    def run(params, observations, key, checksum):
-        steps = jax.tree.leaves(observations)[0].shape[0]
+    def run(params, transitions: Transition, key, checksum):
+        steps = transitions.done.shape[0]
+        rows = truncated_rows(transitions.done.shape[1])
 
         def body(carry, t):
             key, checksum = carry
             key, k_act = jax.random.split(key)
-            at = lambda i: jax.tree.map(lambda x: x[(t + i) % steps], observations)  # noqa: E731
-            dist, value = network.apply(params, at(0))
-            total = dist.log_prob(dist.sample(k_act)).sum() + value.sum()
-            for i in range(1, applies):
-                total = total + network.apply(params, at(i))[1].sum()
+            at = lambda i: jax.tree.map(lambda x: x[(t + i) % steps], transitions)  # noqa: E731
+            dist, value = network.apply(params, at(0).obs)
+            truncated = (at(0).done > 0) & (at(0).terminated == 0)
+            final = final_values(network, params, at(1).obs, truncated, rows)
+            total = dist.log_prob(dist.sample(k_act)).sum() + value.sum() + final.sum()
             return (key, checksum + total), None
 
         (key, checksum), _ = jax.lax.scan(body, (key, checksum), jnp.arange(steps))
-        return params, observations, key, checksum
+        return params, transitions, key, checksum
 
     return run
 
@@ -302,27 +303,6 @@ def host_sync_ms(transitions: Transition, finished: jax.Array, losses: dict) -> 
 
 
 # --- what the phases measure with ----------------------------------------------------------------------------
-
-
-def applies_per_step(setup: UpdateSetup, runner: Runner) -> int:
-    """How many `network.apply` calls one step of `ppo.collect` makes (traced, nothing runs)."""
-    counter = _CountingNetwork(setup.network)
-    restart = functools.partial(draw_levels, setup.pool, count=setup.experiment.ppo.num_envs)
-    one_step = functools.partial(collect, env=setup.env, network=counter, num_steps=1)
-    jax.eval_shape(lambda r: one_step(r, setup.env_params, restart), runner)
-    return counter.calls
-
-
-@dataclasses.dataclass
-class _CountingNetwork:
-    """A network that counts its `apply` calls (while `ppo.collect` is traced)."""
-
-    network: nn.Module
-    calls: int = 0
-
-    def apply(self, *args, **kwargs):
-        self.calls += 1
-        return self.network.apply(*args, **kwargs)
 
 
 def env_only_rate(setup: UpdateSetup, min_time: float, seed: int, levels: int) -> float:

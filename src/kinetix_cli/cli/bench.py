@@ -216,18 +216,18 @@ def _breakdown_table(r) -> Table:
     table.add_row("update", *whole, f"{b.update_gflop_per_s:.3g}", limit(b.update_gflop_per_s))
     table.add_row("env alone", f"{b.env_only_ms:.1f}", "", f"{b.env_only_steps_per_s:,.0f}", "", "", "")
     for p in b.phases:
-        name = f"forward x{b.applies_per_step}" if p.name == "rollout forward" else p.name
         rate = p.gflop / (p.ms / 1e3)
         flops = (f"{p.gflop:.3g}", f"{rate:.3g}", limit(rate)) if p.gflop else ("", "", "")
-        table.add_row(name, f"{p.ms:.1f}", f"{p.share:.0%}", "", *flops)
+        table.add_row(p.name, f"{p.ms:.1f}", f"{p.share:.0%}", "", *flops)
     table.add_row("phases summed", f"{b.phase_sum_ms:.1f}", f"{b.phase_sum_ms / b.update_ms:.0%}", "", "", "", "")
     for m in b.matmuls:
         name = f"{'f32' if m.dtype == 'float32' else 'bf16'} {'x'.join(str(n) for n in m.shape)}"
         table.add_row(name, "", "", "", "", f"{m.gflop_per_s:.3g}", limit(m.gflop_per_s))
     counted = "times their trip counts" if b.loops_counted else "counted once"
     table.caption = (
-        f"Phases compiled alone; XLA fuses them in the update, so they need not sum to it. Forward: "
-        f"{b.applies_per_step} network applies per rollout step. Matmul rows: the f32 and bf16 limit at the "
+        f"Phases compiled alone; XLA fuses them in the update, so they need not sum to it. Rollout forward: "
+        f"a pass per step, and one on the truncated episodes' final observations ({b.final_value_rows} rows; all when "
+        f"more were truncated). Matmul rows: the f32 and bf16 limit at the "
         f"update's shapes (rows x inner x cols); best {b.best_limit_gflop_per_s:.3g} GFLOP/s. XLA's own cost of "
         f"the compiled update: {b.xla_update_gflop:.3g} GFLOP (loop bodies {counted})."
     )

@@ -14,7 +14,8 @@ update of its own built from the same parts (`train_on`, or `collect`, `gae` and
 
 Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
 transition bootstraps from the value of the final observation (`info["final_observation"]`, before the reset),
-so the cap does not look like a failure to the critic. Every transition stores `next_value` = V(observation after
+so the cap does not look like a failure to the critic. The rollout makes one network pass per step, plus one on
+just the truncated rows (`collect`). Every transition stores `next_value` = V(observation after
 the step, before any reset); the GAE recursion stops at every episode boundary, and only true terminations (green
 touched blue or red, NaN) zero the bootstrap.
 """
@@ -211,27 +212,34 @@ def collect(
     """Play `num_steps` steps in every environment with the sampling policy. Episodes that end restart from
     `restart(key)`, a batch of one level per environment drawn at each step. Returns the runner (environments,
     observations, key and running returns advanced), the (num_steps, num_envs) transitions and the returns of the
-    episodes that ended at each step (0 elsewhere)."""
+    episodes that ended at each step (0 elsewhere).
 
-    def env_step(runner: Runner, _):
+    One network pass per step: the pass on a step's new observations gives the next step's policy and the value
+    that bootstraps this step wherever its episode goes on (there the observation is the final one). Only a
+    truncated episode bootstraps from an observation no pass sees (its final one, before the reset): those
+    values come from a pass on just the truncated rows (`final_values`)."""
+    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
+    rows = truncated_rows(jax.tree.leaves(runner.obs)[0].shape[0])
+
+    def env_step(carry, _):
+        runner, dist, value = carry
         # --- act
         key, k_act, k_reset = jax.random.split(runner.key, 3)
-        dist, value = network.apply(runner.params, runner.obs)
         action = dist.sample(k_act)
         log_prob = dist.log_prob(action)
         # --- step; ended episodes restart
-        step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
         obs, env_state, reward, terminated, truncated, info = step(
             runner.env_state, action, env_params, batch_sharded(restart(k_reset))
         )
-        _, next_value = network.apply(runner.params, info["final_observation"])
+        next_dist, next_obs_value = network.apply(runner.params, obs)
+        final_value = final_values(network, runner.params, info["final_observation"], truncated, rows)
         done = terminated | truncated
         transition = Transition(
             obs=runner.obs,
             action=action,
             log_prob=log_prob,
             value=value,
-            next_value=next_value,
+            next_value=jnp.where(truncated, final_value, next_obs_value),
             reward=reward,
             terminated=terminated.astype(jnp.float32),
             done=done.astype(jnp.float32),
@@ -242,10 +250,40 @@ def collect(
         runner = runner.replace(
             env_state=env_state, obs=obs, key=key, episode_return=jnp.where(done, 0.0, episode_return)
         )
-        return runner, (transition, finished_return)
+        return (runner, next_dist, next_obs_value), (transition, finished_return)
 
-    runner, (transitions, finished_return) = jax.lax.scan(env_step, runner, None, length=num_steps)
+    first = (runner, *network.apply(runner.params, runner.obs))
+    (runner, _, _), (transitions, finished_return) = jax.lax.scan(env_step, first, None, length=num_steps)
     return runner, transitions, finished_return
+
+
+TRUNCATED_SHARE = 16
+"""`final_values` evaluates the truncated rows of a step as one pass on 1/16 of the environments (at least one
+row) when they fit, else on all of them."""
+
+
+def truncated_rows(num_envs: int) -> int:
+    """Rows of the small pass of `final_values` for `num_envs` environments."""
+    return max(1, num_envs // TRUNCATED_SHARE)
+
+
+def final_values(network: nn.Module, params, final_obs, truncated: jax.Array, rows: int) -> jax.Array:
+    """(envs,) the value of each truncated environment's final observation (other rows: any finite value).
+
+    Truncations are few per step once episodes fall out of step (an episode is truncated only at the step cap),
+    so when at most `rows` environments were truncated, one pass on those rows (gathered; padding repeats the
+    first) gives them; when more were, as in the first episodes of a run, whose environments start together,
+    one pass on every row does."""
+
+    def few():
+        index = jnp.nonzero(truncated, size=rows, fill_value=0)[0]
+        _, value = network.apply(params, jax.tree.map(lambda x: x[index], final_obs))
+        return jnp.zeros(truncated.shape, value.dtype).at[index].set(value)
+
+    def every():
+        return network.apply(params, final_obs)[1]
+
+    return jax.lax.cond(jnp.sum(truncated) <= rows, few, every)
 
 
 LOSS_METRICS = ("loss", "policy_loss", "value_loss", "entropy", "approx_kl", "mirror_loss")  # what `learn` measures

@@ -94,7 +94,7 @@ def test_breakdown_and_trace_of_rel_mlp_through_the_cli(capsys, tmp_path):
     b = row["breakdown"]
     assert [p["name"] for p in b["phases"]] == list(PHASES)
     assert all(p["ms"] > 0 and p["share"] > 0 for p in b["phases"])
-    assert b["applies_per_step"] == 2  # V(obs) and V(final observation) in `ppo.collect`
+    assert b["final_value_rows"] == 1  # 1/16 of the envs, at least one row (`ppo.truncated_rows`)
     assert b["phase_sum_ms"] == pytest.approx(sum(p["ms"] for p in b["phases"]), rel=1e-6, abs=1e-9)  # [ms]
     assert b["update_gflop"] >= b["learn_gflop"] > 0 and b["update_gflop_per_s"] > 0 and b["xla_update_gflop"] > 0
     assert b["env_only_steps_per_s"] > 0 and b["env_only_ms"] > 0
