@@ -116,6 +116,7 @@ def _wheel_only_venv(wheel: Path, root: Path) -> Path:
     return python
 
 
+@pytest.mark.slow  # ~40 s: a fresh environment and three processes; make test keeps the wheel's contents (above)
 def test_installed_outside_the_checkout_it_finds_its_agents_suites_and_gym_from_any_folder(wheel, tmp_path):
     _check_installed(_wheel_only_venv(wheel, tmp_path), tmp_path / "elsewhere", compiles=False)
 

@@ -12,6 +12,7 @@ import time
 
 import jax
 import numpy as np
+import pytest
 
 from helpers.processes import KINETIX, TIMEOUT, process_env
 from helpers.runs import TINY, set_args, tiny_config
@@ -25,6 +26,8 @@ def records(run_dir) -> list[dict]:
     return [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in (run_dir / "metrics.jsonl").open()]
 
 
+# ~45 s: three kinetix processes; make test keeps SIGTERM and Ctrl-C mid-run in-process (rl/test_record.py)
+@pytest.mark.slow
 def test_sigterm_mid_run_checkpoints_the_update_in_flight_and_resume_matches_an_uninterrupted_run(tmp_path, tiny_pool):
     cut, whole = tmp_path / "cut", tmp_path / "whole"
     args = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args([*TINY, *LONG]), "--run-dir", cut]

@@ -54,6 +54,7 @@ def test_demonstrations_are_the_solved_levels_replayed_with_their_actions(solved
     jax.tree.map(lambda a, b: np.testing.assert_allclose(a[0], b, rtol=0, atol=1e-6), observations, first)
 
 
+@pytest.mark.slow  # ~32 s: cloning steps compile and run; make test keeps the demonstrations and the one-line error
 def test_cloning_steps_make_the_stored_actions_likely(solved_set):
     config = clone_config(solved_set, "clone.updates=1")
     demos, size = load_demonstrations(config)

@@ -104,6 +104,7 @@ def test_clipped_losses_by_hand():
     assert float(total) == pytest.approx(-0.2 + 0.5 * 0.3125 - 0.01 * 1.0, rel=1e-5, abs=1e-6)  # [loss]
 
 
+@pytest.mark.slow  # ~21 s: the loss on observation pairs compiles and trains; make test keeps its exact value above
 def test_the_symmetry_loss_compares_each_state_with_its_mirror_image_and_can_be_learned():
     """`ppo.mirror_coef`: the loss adds mirror_coef x the mean KL between the policy at each state and its choice at
     the mirror image, mirrored back (nonzero for a fresh network), over `mirror_share` of the minibatch, and Adam

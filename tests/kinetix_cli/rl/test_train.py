@@ -220,6 +220,7 @@ def test_a_fresh_critic_forgets_the_loaded_values_and_keeps_the_rest(tmp_path, t
         tiny_config("run.fresh_critic=true")
 
 
+@pytest.mark.slow  # ~28 s: two more runs compile; make test keeps the restart's memory across a resume (below)
 def test_a_run_whose_first_updates_solve_nothing_starts_again_from_the_features(tmp_path, tiny_run, tiny_pool):
     loaded = load_policy(tiny_run).params
     habit = strong_habit(loaded)

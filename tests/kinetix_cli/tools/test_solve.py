@@ -55,6 +55,7 @@ def test_a_solved_set_keeps_each_levels_search_result_and_replays_its_solutions(
     assert "manifest.json: not found" in line
 
 
+@pytest.mark.slow  # ~26 s: three solves of a set; make test keeps a search and a solved set (above)
 def test_a_solve_stopped_part_way_resumes_at_its_last_shard(capsys, tmp_path):
     """`--shard-size` sets how much a killed solve keeps: stopped after its first shard of 2 levels, the same command
     finishes the set, and it holds the same levels and search results as the source's layout (shards of 4)."""
