@@ -143,7 +143,9 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
 
 def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> TrainBenchResult:
     experiment = experiment_for(config, model, envs)
-    env, env_params = make_env(experiment.env, pairs=experiment.model.reads_pairs)
+    env, env_params = make_env(
+        experiment.env, pairs=experiment.model.reads_pairs, attention=experiment.model.reads_attention
+    )
     network = make_network(experiment.model, experiment.env)
     update = functools.partial(ppo_update, env=env, network=network, settings=experiment.ppo)
     runner = init_runner(env, network, experiment.ppo, pool, replicate(jax.random.key(config.seed), mesh))

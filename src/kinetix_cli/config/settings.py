@@ -111,6 +111,11 @@ class ModelSettings:
         """Whether the model reads (observation, mirrored observation) pairs (`make_env(..., pairs=True)`)."""
         return self.mirror != "none"
 
+    @property
+    def reads_attention(self) -> bool:
+        """Whether the model reads the entity observation's attention mask (`make_env(..., attention=True)`)."""
+        return self.name == "transformer"
+
     def __post_init__(self):
         check_types(self)
         require(

@@ -121,12 +121,16 @@ class KinetixEnv:
         observation: one of `constants.OBSERVATION_TYPES`; only this one is computed.
         action: one of `constants.ACTION_TYPES` (see `kinetix_cli.env.actions`).
         frame_skip: engine steps per environment step.
+        attention: whether a ``symbolic-entity`` observation computes its ``attention_mask`` (which only the
+            transformer reads; it tests every pair of shapes for contact). False: the mask is all False and costs
+            nothing (`ModelSettings.reads_attention` says which models need it).
     """
 
     static: Static
     observation: str = "symbolic-flat"
     action: str = "multi-discrete"
     frame_skip: int = 2
+    attention: bool = True
 
     def __post_init__(self) -> None:
         if self.observation not in OBSERVATION_TYPES:
@@ -219,5 +223,5 @@ class KinetixEnv:
         if self.observation == "symbolic-flat":
             return symbolic_flat(self.static, state.physics, state.bindings)
         if self.observation == "symbolic-entity":
-            return symbolic_entity(self.static, state.physics, state.bindings)
+            return symbolic_entity(self.static, state.physics, state.bindings, self.attention)
         return pixel_observation(self.static, state.physics, state.bindings)

@@ -12,7 +12,9 @@ from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.errors import UserError
 
 
-def make_env(settings: EnvSettings, static: Static | None = None, pairs: bool = False) -> tuple[KinetixEnv, EnvParams]:
+def make_env(
+    settings: EnvSettings, static: Static | None = None, pairs: bool = False, attention: bool = True
+) -> tuple[KinetixEnv, EnvParams]:
     """The environment and its parameters for `settings` (an experiment's `env` section).
 
     Args:
@@ -21,18 +23,21 @@ def make_env(settings: EnvSettings, static: Static | None = None, pairs: bool = 
             other sizes; see `constants.SIZE_INDEPENDENT_OBSERVATIONS`).
         pairs: observe every state and its mirror image (`mirror.MirrorPairEnv`): what a model with
             `model.mirror` reads (`ModelSettings.reads_pairs`).
+        attention: compute the entity observation's attention mask, which only the transformer reads
+            (`ModelSettings.reads_attention`); False leaves it all False, at no cost.
     """
     env = (MirrorPairEnv if pairs else KinetixEnv)(
         static=SIZES[settings.size] if static is None else static,
         observation=settings.observation,
         action=settings.action,
         frame_skip=settings.frame_skip,
+        attention=attention,
     )
     return env, EnvParams(max_steps=settings.max_steps, dense_reward_scale=settings.dense_reward_scale)
 
 
 def make_env_for_level(
-    settings: EnvSettings, level_size: str, source: str, pairs: bool = False
+    settings: EnvSettings, level_size: str, source: str, pairs: bool = False, attention: bool = True
 ) -> tuple[KinetixEnv, EnvParams]:
     """The environment of `settings` built at a level's size, for a policy trained with `settings` to play it.
 
@@ -44,4 +49,4 @@ def make_env_for_level(
             f"{source}: a size-{level_size} level; this policy reads {settings.observation} observations of size "
             f"{settings.size} only"
         )
-    return make_env(settings, SIZES[level_size], pairs)
+    return make_env(settings, SIZES[level_size], pairs, attention)

@@ -40,7 +40,7 @@ from engine import (
     pair_table,
     touching_matrix,
 )
-from kinetix_cli.constants import NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROLE_NAMES
+from kinetix_cli.constants import NUM_ATTENTION_CHANNELS, NUM_MOTOR_BINDINGS, NUM_THRUSTER_BINDINGS, ROLE_NAMES
 from kinetix_cli.env.level import Bindings
 
 SHAPE_FEATURES = 17
@@ -289,8 +289,10 @@ def attention_masks(static: Static, physics, mask: jax.Array) -> jax.Array:
     return channels & (mask[:, None] & mask[None, :])[None]
 
 
-def symbolic_entity(static: Static, physics, bindings: Bindings) -> EntityObservation:
-    """The ``symbolic-entity`` observation of one scene (layout in `EntityObservation`); jittable, vmappable."""
+def symbolic_entity(static: Static, physics, bindings: Bindings, attention: bool = True) -> EntityObservation:
+    """The ``symbolic-entity`` observation of one scene (layout in `EntityObservation`); jittable, vmappable.
+    `attention` False leaves `attention_mask` all False, without its contact test (for models that do not read
+    it)."""
     p = static.num_polygons
     b, j, t = physics.bodies, physics.joints, physics.thrusters
     shapes = shape_features(static, physics)
@@ -313,7 +315,9 @@ def symbolic_entity(static: Static, physics, bindings: Bindings) -> EntityObserv
         circle_mask=mask[p:],
         joint_mask=jnp.concatenate([j.active, j.active]),
         thruster_mask=t.active,
-        attention_mask=attention_masks(static, physics, mask),
+        attention_mask=attention_masks(static, physics, mask)
+        if attention
+        else jnp.zeros((NUM_ATTENTION_CHANNELS, static.num_bodies, static.num_bodies), bool),
         gravity=(physics.gravity / 10.0).astype(jnp.float32),
     )
 

@@ -264,7 +264,9 @@ class LoadedPolicy:
     def env_for(self, size: str, origin: str) -> tuple[KinetixEnv, EnvParams]:
         """The environment this policy plays size-`size` levels in: its run's settings (frame skip, episode cap,
         shaping, observation, action); `origin` names the level in errors."""
-        return make_env_for_level(self.config.env, size, origin, self.config.model.reads_pairs)
+        return make_env_for_level(
+            self.config.env, size, origin, self.config.model.reads_pairs, self.config.model.reads_attention
+        )
 
 
 def load_policy(source: str | os.PathLike) -> LoadedPolicy:

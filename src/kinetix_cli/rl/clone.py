@@ -72,7 +72,9 @@ def load_demonstrations(config: ExperimentConfig) -> tuple[Demonstrations, str]:
 
 def demonstration_env(config: ExperimentConfig, size: str) -> tuple[KinetixEnv, EnvParams]:
     """The run's environment built at the demonstrations' size (the training network's observation must play it)."""
-    return make_env_for_level(config.env, size, "clone.levels", pairs=config.trains_on_pairs)
+    return make_env_for_level(
+        config.env, size, "clone.levels", pairs=config.trains_on_pairs, attention=config.model.reads_attention
+    )
 
 
 def replay_observations(env: KinetixEnv, params: EnvParams, demos: Demonstrations, key: jax.Array, count: int):

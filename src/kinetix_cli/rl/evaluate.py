@@ -99,7 +99,9 @@ class Evaluator:
         self._groups = []
         for size, entries in by_size.items():
             pairs = config.model.reads_pairs or mirror is not None
-            env, env_params = make_env_for_level(config.env, size, str(entries[0][0]), pairs)
+            env, env_params = make_env_for_level(
+                config.env, size, str(entries[0][0]), pairs, config.model.reads_attention
+            )
             levels = stack_levels([spec.build(env.static) for _, spec in entries])
             repeated = jax.tree.map(lambda x: np.repeat(np.asarray(x), attempts, axis=0), levels)  # host side
             levels, level_axes = share_engine_params(repeated)

@@ -177,7 +177,7 @@ def start_run(
         pool = level_pool(config, make_mesh(devices, local_only=True))
     with using(mesh):
         fresh = fresh_source(config)
-        env, env_params = make_env(config.env, pairs=config.trains_on_pairs)
+        env, env_params = make_env(config.env, pairs=config.trains_on_pairs, attention=config.model.reads_attention)
         network = training_network(config)
         ppo = config.ppo
         curriculum = make_curriculum(config.curriculum, env=env, network=network, ppo=ppo, fresh=fresh)

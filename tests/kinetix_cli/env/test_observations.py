@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 from engine import SIZES, BodyRef, Scene
+from kinetix_cli.config import ModelSettings
+from kinetix_cli.constants import MODEL_NAMES
 from kinetix_cli.env import pixels
 from kinetix_cli.env.level import Bindings, Level, make_level, stack_levels
 from kinetix_cli.env.observations import (
@@ -95,6 +97,12 @@ def chain():
     Slots: floor 0, walls 1..3, box 4, empty polygon 5, circles A 6, B 7, C 8.
     """
     static = SIZES["m"]
+    obs = jax.jit(symbolic_entity, static_argnums=0)(static, *chain_scene(static))
+    return static, jax.tree.map(np.asarray, obs)
+
+
+def chain_scene(static):
+    """The physics and bindings of `chain`'s scene."""
     scene = Scene()
     box = scene.add_box((1.0, 0.5), (0.6, 0.2))  # bottom edge on the floor top (y = 0.4)
     a = scene.add_circle((1.2, 0.9), 0.15)
@@ -103,10 +111,7 @@ def chain():
     scene.add_revolute_joint(box, a, anchor=(1.2, 0.7), motor_speed=2.0, limits=(-0.5, 1.0))
     scene.add_fixed_joint(a, bb, anchor=(1.35, 0.9))
     scene.add_thruster(bb, anchor=(1.5, 1.0), angle=0.0)
-    physics = scene.build(static)
-    bindings = bindings_for(static, motor=(3, 0), thruster=(1,))
-    obs = jax.jit(symbolic_entity, static_argnums=0)(static, physics, bindings)
-    return static, jax.tree.map(np.asarray, obs)
+    return scene.build(static), bindings_for(static, motor=(3, 0), thruster=(1,))
 
 
 def test_entity_masks(chain):
@@ -167,6 +172,16 @@ def test_attention_channels(chain):
     assert pairs(1) == {(4, 6), (4, 7), (6, 7)}  # the chain box - A - B
     assert pairs(2) == {(4, 6), (6, 7)}  # direct joints only
     assert pairs(3) == {(0, 4)}  # the box rests on the floor; joined pairs never count as contacts
+
+
+def test_without_attention_the_mask_is_all_false_and_the_rest_the_same(chain):
+    """What the models other than the transformer get (`ModelSettings.reads_attention`)."""
+    static, obs = chain
+    scene_physics, bindings = chain_scene(static)
+    plain = jax.jit(symbolic_entity, static_argnums=(0, 3))(static, scene_physics, bindings, False)
+    assert plain.attention_mask.shape == obs.attention_mask.shape and not plain.attention_mask.any()
+    jax.tree.map(np.testing.assert_array_equal, plain.replace(attention_mask=obs.attention_mask), obs)
+    assert [ModelSettings(name=m).reads_attention for m in MODEL_NAMES] == [m == "transformer" for m in MODEL_NAMES]
 
 
 def test_reversed_joint_rows_mirror(chain):
