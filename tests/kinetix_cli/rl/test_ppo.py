@@ -14,12 +14,21 @@ import pytest
 from engine import SIZES
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
-from kinetix_cli.env.environment import KinetixEnv
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import draw_levels, index_level
 from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.rl.distributions import kl_divergence, mirrored
 from kinetix_cli.rl.networks import FirstViewNetwork, make_network
-from kinetix_cli.rl.ppo import Runner, Transition, entropy_weight, first_reset, gae, ppo_loss
+from kinetix_cli.rl.ppo import (
+    Runner,
+    Transition,
+    collect,
+    entropy_weight,
+    first_reset,
+    gae,
+    ppo_loss,
+    truncated_rows,
+)
 
 
 def _transitions(terminated, done):
@@ -191,3 +200,43 @@ def test_the_first_reset_happens_at_update_0_only():
     np.testing.assert_array_equal(reset(jnp.int32(0)), expected)
     assert not np.array_equal(expected, start_obs)
     np.testing.assert_array_equal(reset(jnp.int32(1)), start_obs)
+
+
+def test_one_pass_per_step_gives_the_two_pass_rollouts_transitions():
+    """`collect` takes each step's bootstrap value from the next step's pass, and truncated episodes' from a pass on
+    their final observations alone: the transitions of the plain rollout that passes every final observation
+    through the network. Episodes are staggered so that some steps truncate more environments than the small pass
+    holds (all rows then) and others fewer (just those rows)."""
+    envs, steps = 32, 6  # the small pass: 2 rows (`truncated_rows`)
+    env = KinetixEnv(SIZES["s"], observation="symbolic-flat")
+    env_params = EnvParams(max_steps=16)
+    network = make_network(
+        ModelSettings(name="flat-mlp", width=16, actor_critic_layers=1), EnvSettings(observation="symbolic-flat")
+    )
+    pool = random_levels(SIZES["s"], 4, 0)
+    obs, state = jax.vmap(env.reset_to_level)(draw_levels(pool, jax.random.key(1), envs))
+    slot = jnp.arange(envs)
+    state = state.replace(steps=jnp.where(slot < 8, 15, slot % 16).astype(jnp.int32))  # step 1: 10 truncated, then 2
+    params = network.init(jax.random.key(2), obs)
+    runner = Runner(params, None, state, obs, jnp.zeros(envs), jax.random.key(3), jnp.int32(0))
+    restart = lambda key: draw_levels(pool, key, envs)  # noqa: E731
+    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
+
+    def two_passes(runner):
+        def body(runner, _):
+            key, k_act, k_reset = jax.random.split(runner.key, 3)
+            dist, value = network.apply(runner.params, runner.obs)
+            action = dist.sample(k_act)
+            obs, state, _, _, truncated, info = step(runner.env_state, action, env_params, restart(k_reset))
+            _, next_value = network.apply(runner.params, info["final_observation"])
+            return runner.replace(env_state=state, obs=obs, key=key), (action, value, next_value, truncated)
+
+        return jax.lax.scan(body, runner, None, length=steps)[1]
+
+    one = jax.jit(lambda r: collect(r, env_params, restart, env=env, network=network, num_steps=steps)[1])(runner)
+    action, value, next_value, truncated = jax.jit(two_passes)(runner)
+    counts = np.asarray(truncated).sum(axis=1)
+    assert counts.max() > truncated_rows(envs) >= counts[1:].max() > 0, counts
+    np.testing.assert_array_equal(one.action, action)
+    np.testing.assert_allclose(one.value, value, rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(one.next_value, next_value, rtol=1e-6, atol=1e-6)
