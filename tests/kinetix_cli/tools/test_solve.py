@@ -31,6 +31,7 @@ def test_search_finds_a_robust_solution_that_replays():
     assert outcome["random"].solved.shape == (4,)
 
 
+@pytest.mark.slow  # ~28 s: a set solved and replayed; make test keeps the search and its replay (above)
 def test_a_solved_set_keeps_each_levels_search_result_and_replays_its_solutions(capsys, tmp_path):
     """Six shipped s levels searched three at a time: every solution it stores solves its level, the unsolved are
     marked with no-op actions, the same command writes the same bytes, and `levels info` counts both."""
@@ -55,7 +56,7 @@ def test_a_solved_set_keeps_each_levels_search_result_and_replays_its_solutions(
     assert "manifest.json: not found" in line
 
 
-@pytest.mark.slow  # ~26 s: three solves of a set; make test keeps a search and a solved set (above)
+@pytest.mark.slow  # ~26 s: three solves of a set; make test keeps the search and its replay (above)
 def test_a_solve_stopped_part_way_resumes_at_its_last_shard(capsys, tmp_path):
     """`--shard-size` sets how much a killed solve keeps: stopped after its first shard of 2 levels, the same command
     finishes the set, and it holds the same levels and search results as the source's layout (shards of 4)."""
