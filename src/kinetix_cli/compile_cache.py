@@ -14,9 +14,8 @@ damaged entry is read as a miss: the program is compiled again and nothing is pr
 time (`NAME-cache` without `NAME-atime`: its process was killed while writing it, or a cache without a size bound
 wrote it) is removed when a command starts (`remove_unfinished`): JAX's eviction reads every entry's access time
 before each write, so one such entry made every later write fail, silently (seen here: a killed test process left
-one, and the suite's folder stopped growing). A folder copied or moved
-elsewhere is read as empty: JAX's key of an entry includes the folder's own path (seen with jax 0.10.2: a copy of a
-warm folder compiled everything again).
+one, and the suite's folder stopped growing). A folder copied or moved elsewhere is read as empty: JAX's key of an
+entry includes the folder's own path (seen with jax 0.10.2: a copy of a warm folder compiled everything again).
 """
 
 from __future__ import annotations

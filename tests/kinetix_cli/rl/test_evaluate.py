@@ -55,3 +55,10 @@ def test_a_policy_joined_with_its_mirror_image_plays_and_says_so(tiny_run, fall_
     assert evaluation_record("tiny", 1, 2, 0, [normal], mirror="mean")["mirror"] == "mean"
     with pytest.raises(UserError, match="--mirror: unknown mode 'left'; choose one of mean, geometric, value"):
         Evaluator(policy.config, fall_levels, attempts=2, mirror="left")
+
+
+@pytest.mark.parametrize("model", ["pi-mlp", "transformer"])
+def test_the_attention_mask_is_computed_only_for_the_model_that_reads_it(model):
+    config = tiny_config(f"model.name={model}")
+    [(_, _, env, *_)] = Evaluator(config, ["levels/s/pad-to-pad.json"], attempts=1)._groups
+    assert env.attention is (model == "transformer")
