@@ -80,3 +80,9 @@ def test_finetune_from_a_run_of_another_model_names_the_flag(capsys, tmp_path, t
     )
     assert line.endswith("float32[16] found)")  # the first leaf that differs: width 32 wanted, the run's 16 found
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+
+
+def test_the_buffer_of_a_run_without_one_names_its_curriculum(capsys, tmp_path, tiny_run):
+    # here, not beside the SFL run's tests: their worker would train the tiny run for this alone
+    line = kinetix(capsys, "levels", "show", tiny_run, "--buffer", "-o", tmp_path / "x.png").error_line
+    assert "holds no level buffer (the run's curriculum.name is 'dr')" in line

@@ -61,7 +61,7 @@ def test_cloning_steps_make_the_stored_actions_likely(solved_set):
     env, params = demonstration_env(config, size)
     network = make_network(config.model, config.env)
     observations, _, _ = replay_observations(env, params, demos, jax.random.key(0), 2)
-    weights = network.init(jax.random.key(1), jax.tree.map(lambda x: x[0], observations))
+    weights = jax.jit(network.init)(jax.random.key(1), jax.tree.map(lambda x: x[0], observations))
     optimizer = optax.adam(3e-3)
     state, losses = optimizer.init(weights), []
     for step in range(40):
@@ -147,7 +147,7 @@ def test_cloning_beside_the_symmetry_loss_clones_the_first_view_and_saves_a_plai
     jax.tree.map(np.testing.assert_array_equal, first, plain)  # the first view is the state itself
     assert any(not np.array_equal(a, b) for a, b in zip(jax.tree.leaves(first), jax.tree.leaves(mirrored), strict=True))
     plain_network, optimizer = make_network(config.model, config.env), optax.adam(3e-3)
-    weights = plain_network.init(jax.random.key(1), jax.tree.map(lambda x: x[0], plain))
+    weights = jax.jit(plain_network.init)(jax.random.key(1), jax.tree.map(lambda x: x[0], plain))
     steps = [  # one cloning step on pairs with the run's network is the plain step on the states
         clone_step(
             weights,

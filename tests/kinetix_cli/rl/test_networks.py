@@ -302,7 +302,7 @@ def test_batched_apply_matches_one_observation():
     apply, params = entity_model("transformer")
     obs = observations("s", "symbolic-entity")
     one = jax.tree.map(lambda x: x[1], obs)
-    dist, value = tiny("transformer").apply(params, one)
+    dist, value = jax.jit(tiny("transformer").apply)(params, one)
     batched_logits, batched_value = apply(params, obs)
     np.testing.assert_allclose(value, batched_value[1], rtol=1e-5, atol=1e-6)
     np.testing.assert_allclose(dist.logits, batched_logits[1], rtol=1e-5, atol=1e-6)
@@ -384,7 +384,7 @@ def test_a_policy_joined_with_its_mirror_image_is_left_right_equivariant(mode):
     env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
     state = env.initial_state(index_level(random_levels(SIZES["s"], 4, 0), 1))
     pair, twin_pair = env.observe(state), env.observe(mirror_env_state(state))
-    params = network.init(jax.random.key(0), pair[0])
+    params = jax.jit(network.init)(jax.random.key(0), pair[0])
     params = jax.tree.map(lambda x: x * 8.0, params)  # far from uniform, so that a difference would show
     joined = jax.jit(lambda params, pair: mirror_joined(network, params, pair, mode))
     here, there = joined(params, pair), joined(params, twin_pair)
@@ -407,8 +407,8 @@ def test_a_mirror_joined_model_has_the_plain_models_parameters_and_acts_joined(m
     joined = make_network(ModelSettings(name="rel-mlp", width=16, actor_critic_layers=2, mirror=mode), plain_env())
     env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
     pair = env.observe(env.initial_state(index_level(random_levels(SIZES["s"], 4, 0), 2)))
-    params = plain.init(jax.random.key(0), pair[0])
-    assert jax.tree.structure(joined.init(jax.random.key(0), pair)) == jax.tree.structure(params)
+    params = jax.jit(plain.init)(jax.random.key(0), pair[0])
+    assert jax.tree.structure(jax.eval_shape(joined.init, jax.random.key(0), pair)) == jax.tree.structure(params)
     dist, value = jax.jit(joined.apply)(params, pair)
     expected = jax.jit(lambda p, o: mirror_joined(plain, p, o, mode))(params, pair)
     np.testing.assert_allclose(np.asarray(dist.logits), np.asarray(expected.logits), atol=1e-6)  # [nats]

@@ -124,7 +124,7 @@ def test_the_symmetry_loss_compares_each_state_with_its_mirror_image_and_can_be_
     env = MirrorPairEnv.of(KinetixEnv(SIZES["s"], observation="symbolic-entity"))
     levels = random_levels(SIZES["s"], 4, 0)
     pairs = jax.jit(jax.vmap(lambda i: env.observe(env.initial_state(index_level(levels, i)))))(jnp.arange(4))
-    params = jax.tree.map(lambda x: x * 8.0, network.init(jax.random.key(0), pairs))  # far from uniform
+    params = jax.tree.map(lambda x: x * 8.0, jax.jit(network.init)(jax.random.key(0), pairs))  # far from uniform
     dist, value = jax.jit(network.apply)(params, pairs)
     batch = Transition(
         obs=pairs,
@@ -217,7 +217,7 @@ def test_one_pass_per_step_gives_the_two_pass_rollouts_transitions():
     obs, state = jax.vmap(env.reset_to_level)(draw_levels(pool, jax.random.key(1), envs))
     slot = jnp.arange(envs)
     state = state.replace(steps=jnp.where(slot < 8, 15, slot % 16).astype(jnp.int32))  # step 1: 10 truncated, then 2
-    params = network.init(jax.random.key(2), obs)
+    params = jax.jit(network.init)(jax.random.key(2), obs)
     runner = Runner(params, None, state, obs, jnp.zeros(envs), jax.random.key(3), jnp.int32(0))
     restart = lambda key: draw_levels(pool, key, envs)  # noqa: E731
     step = jax.vmap(env.step, in_axes=(0, 0, None, 0))

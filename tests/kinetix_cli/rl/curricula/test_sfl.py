@@ -66,11 +66,6 @@ def test_the_report_of_an_sfl_run_shows_its_buffer(capsys, tmp_path, sfl_run):
     assert "buffers/0.png" in page.refs and "No evaluation" in " ".join(page.text)
 
 
-def test_a_run_without_a_buffer_says_so(capsys, tmp_path, tiny_run):
-    line = kinetix(capsys, "levels", "show", tiny_run, "--buffer", "-o", tmp_path / "x.png").error_line
-    assert "holds no level buffer (the run's curriculum.name is 'dr')" in line
-
-
 def test_scoring_counts_the_episodes_of_every_copy_of_a_level(tiny_pool):
     config = tiny_config("env.max_steps=4")  # every episode ends within 4 steps: at least 2 per copy in 8 steps
     env, env_params = make_env(config.env)
