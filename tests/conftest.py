@@ -12,7 +12,7 @@ import pytest
 
 from helpers.processes import FAST_CODEGEN, FAST_COMPILE
 from helpers.runs import sfl_config, tiny_config
-from kinetix_cli import compile_cache
+from kinetix_cli import compile_cache, cpu
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
@@ -56,6 +56,10 @@ def pytest_configure(config):
     codegen = os.environ.get(CODEGEN, "fast") or "fast"
     if codegen not in ("fast", "release"):
         raise pytest.UsageError(f'{CODEGEN}={codegen!r}: expected "fast" or "release"')
+    # One CPU device for the suite and every process it starts, as JAX's default: the runs it compares bit for bit
+    # were made that way, and XLA_FLAGS' forced device count still gives a test's process 2. `kinetix` itself
+    # splits the CPU into one device per core (tests/kinetix_cli/test_cpu.py).
+    os.environ[cpu.VARIABLE] = "1"
     os.environ[compile_cache.VARIABLE] = str(COMPILE_CACHE)  # started `kinetix` processes inherit it
     # Tracing, not compiling, is most of the suite's JAX time (a full make test here: 520 s tracing and 280 s
     # lowering against 240 s of XLA compile, summed over workers), and tracing makes many short-lived objects: with

@@ -23,12 +23,14 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Iterator
 
 import jax
 import numpy as np
 from jax.sharding import AxisType, Mesh, NamedSharding, PartitionSpec
 
+from kinetix_cli import cpu
 from kinetix_cli.errors import UserError
 
 BATCH = "batch"
@@ -43,6 +45,22 @@ PEER_LOST_EXIT = 3
 _SERVICE_HEARTBEAT = 60
 """jax.distributed's own heartbeat timeout [s]: longer than `PEER_TIMEOUT`, so the watchdog's one clear line
 comes before the runtime's abort (a C++ check failure and stack trace)."""
+
+
+def fitting_devices(sizes: dict[str, int]) -> int | None:
+    """Local devices for work that splits batches of these global `sizes` (setting -> size) when the user named no
+    count: None (all of them), except on a CPU split by default (`split_cpu`, one process), where it is the most
+    devices every size splits over evenly, with a warning when that is fewer than all. (A count the user chose is
+    checked by `check_divisible` instead: one clear error.)"""
+    local = jax.local_devices()
+    if cpu.automatic() is None or local[0].platform != "cpu":
+        return None
+    count = max(n for n in range(1, len(local) + 1) if all(size % n == 0 for size in sizes.values()))
+    if count < len(local):
+        odd = ", ".join(f"{what} {size}" for what, size in sizes.items() if size % len(local))
+        message = f"{odd} does not split over the {len(local)} CPU devices (one per core); using {count}"
+        warnings.warn(message, stacklevel=2)
+    return count
 
 
 def initialize(coordinator: str | None, num_processes: int | None, process_id: int | None) -> None:
@@ -65,6 +83,7 @@ def initialize(coordinator: str | None, num_processes: int | None, process_id: i
         host, _, port = coordinator.rpartition(":")
         if not host or not port.isdigit():
             raise UserError(f"--coordinator: expected HOST:PORT, got {coordinator!r}")
+    cpu.unsplit()  # several processes: each keeps the one CPU device XLA gives it, unless told otherwise
     if auto or num_processes > 1:
         _supervised(process_id)
     jax.config.update("jax_cpu_collectives_implementation", "gloo")

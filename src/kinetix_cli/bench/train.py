@@ -54,7 +54,7 @@ class TrainBenchConfig:
         min_time: seconds of timed updates per measurement (at least 2 updates).
         distinct_levels: random full levels the environments reset to.
         seed: seed of the levels, parameters and actions.
-        devices: local device counts to measure on (None: all local devices).
+        devices: local device counts to measure on (None: all local devices; 1 with `breakdown`).
         breakdown: also measure where each update's time goes (`bench.breakdown`; one device only).
         trace: folder for a JAX profiler trace of each measurement's updates (None: no trace).
     """
@@ -121,7 +121,7 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
             raise UserError(
                 f"--minibatches: {config.minibatches} does not divide envs x steps = {envs} x {config.num_steps}"
             )
-    meshes = [make_mesh(count) for count in config.devices or [None]]
+    meshes = [make_mesh(count) for count in config.devices or [1 if config.breakdown else None]]
     for mesh in meshes:
         for envs in config.envs:
             check_divisible(envs, mesh, "--envs")

@@ -155,7 +155,9 @@ def bench_train_command(
     layers: int = typer.Option(5, min=1, max=64, help="Actor and critic hidden layers."),
     min_time: float = typer.Option(5.0, min=0.0, max=3600.0, help="Seconds of timed updates per measurement."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the levels, parameters and actions."),
-    devices: str = typer.Option(None, help="Comma-separated local device counts to measure on (default: all)."),
+    devices: str = typer.Option(
+        None, help="Comma-separated local device counts to measure on (default: all; 1 with --breakdown)."
+    ),
     breakdown: bool = typer.Option(
         False, "--breakdown", help="Also time each phase alone, the env alone, FLOPs and the matmul limit (1 device)."
     ),

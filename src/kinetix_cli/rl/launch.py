@@ -28,7 +28,7 @@ from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import check_output_dir
-from kinetix_cli.parallel import check_divisible, make_mesh, primary_decides, replicate, using
+from kinetix_cli.parallel import check_divisible, fitting_devices, make_mesh, primary_decides, replicate, using
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.checkpoints import CHECKPOINTS, checkpoint_manager, restore_runner
 from kinetix_cli.rl.clone import Cloning, load_demonstrations
@@ -170,8 +170,11 @@ def start_run(
 ) -> Start:
     """The run of `config` ready to train (`rl.train.train` has the arguments' meaning). Everything that can fail
     on bad input happens here, before anything is written: a failed start leaves no debris."""
+    sizes = split_sizes(config.ppo, config.clone, config.curriculum)
+    devices = devices or fitting_devices(sizes)
     mesh = make_mesh(devices)
-    check_split(config.ppo, config.clone, config.curriculum, mesh)
+    for what, size in sizes.items():  # one clear line unless every batch splits evenly
+        check_divisible(size, mesh, what)
     demos = load_demonstrations(config) if config.clone.active else None
     if pool is None:  # each process generates a pool on its own devices: the same levels in every process
         pool = level_pool(config, make_mesh(devices, local_only=True))
@@ -249,12 +252,10 @@ def same_experiment(saved: ExperimentConfig, given: ExperimentConfig) -> bool:
     return saved == dataclasses.replace(given, run=budget)
 
 
-def check_split(ppo: PPOSettings, clone: CloneSettings, curriculum: CurriculumSettings, mesh: Mesh) -> None:
-    """One clear line unless every batch the run splits across devices splits evenly."""
-    check_divisible(ppo.num_envs, mesh, "ppo.num_envs")
-    if clone.active:
-        check_divisible(clone.batch, mesh, "clone.batch")
-    curriculum_class(curriculum).check_split(curriculum, mesh)
+def split_sizes(ppo: PPOSettings, clone: CloneSettings, curriculum: CurriculumSettings) -> dict[str, int]:
+    """The global size of every batch the run splits across devices, by the setting that sets it."""
+    sizes = {"ppo.num_envs": ppo.num_envs} | curriculum_class(curriculum).split_sizes(curriculum)
+    return sizes | ({"clone.batch": clone.batch} if clone.active else {})
 
 
 def scoring_key(run_key: jax.Array, update: int) -> jax.Array:

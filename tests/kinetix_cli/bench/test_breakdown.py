@@ -44,10 +44,16 @@ def test_breakdown_rejects_impossible_sizes(change, flag):
         bench_train(TrainBenchConfig(**(TINY | change), breakdown=True))
 
 
-def test_breakdown_refuses_several_devices(monkeypatch):
-    monkeypatch.setattr("kinetix_cli.bench.train.make_mesh", lambda count: types.SimpleNamespace(size=2))
+def test_breakdown_refuses_several_devices_and_asks_for_one_by_default(monkeypatch):
+    asked = []
+    monkeypatch.setattr(
+        "kinetix_cli.bench.train.make_mesh", lambda count: asked.append(count) or types.SimpleNamespace(size=2)
+    )
     with pytest.raises(UserError, match="--breakdown: measures on one device, not 2; add --devices 1"):
         bench_train(TrainBenchConfig(**TINY, breakdown=True, devices=(2,)))
+    with pytest.raises(UserError):  # (the stand-in mesh has 2 devices whatever it is asked)
+        bench_train(TrainBenchConfig(**TINY, breakdown=True))  # the CPU split into one device per core
+    assert asked == [2, 1]
 
 
 def test_xla_flops_of_a_matmul_is_its_multiply_adds():

@@ -15,6 +15,8 @@ from __future__ import annotations
 import json
 import os
 import signal
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -196,3 +198,17 @@ def test_envs_that_do_not_split_are_one_line(tmp_path, env):
     expected = "error: ppo.num_envs: 3 does not divide evenly over 2 devices; use a multiple of 2"
     assert code == 2 and err.strip() == expected
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.slow  # ~25 s: a training process of its own; make test checks the choice itself (test_cpu.py)
+def test_on_a_default_cpu_split_envs_that_do_not_split_train_on_fewer_devices(tmp_path, env):
+    """`kinetix`'s own split (one device per core; 2 here, as `KINETIX_CPU_DEVICES` is unset) never fails a run:
+    3 environments train on 1 device, with a warning."""
+    odd = [*FOUR, "--set", "ppo.num_envs=3", "--set", "ppo.num_minibatches=1", "--run-dir", tmp_path / "run"]
+    script = "from kinetix_cli import cpu; cpu.usable_cores = lambda: 2; from kinetix_cli.cli.app import main; main()"
+    unset = {k: v for k, v in env.items() if k != "KINETIX_CPU_DEVICES"}
+    done = subprocess.run(
+        [sys.executable, "-c", script, *map(str, odd)], env=unset, capture_output=True, text=True, timeout=TIMEOUT
+    )
+    assert done.returncode == 0, done.stderr
+    assert "warning: ppo.num_envs 3 does not split over the 2 CPU devices (one per core); using 1" in done.stderr

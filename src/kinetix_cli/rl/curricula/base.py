@@ -16,7 +16,6 @@ import dataclasses
 
 import flax.linen as nn
 import jax
-from jax.sharding import Mesh
 
 from kinetix_cli.config import CurriculumSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
@@ -50,8 +49,9 @@ class Curriculum:
         return 0
 
     @classmethod
-    def check_split(cls, curriculum: CurriculumSettings, mesh: Mesh) -> None:
-        """Raise a `UserError` unless every batch the curriculum splits across the mesh's devices splits evenly."""
+    def split_sizes(cls, curriculum: CurriculumSettings) -> dict[str, int]:
+        """The global size of every batch the curriculum splits across devices, by the setting that sets it."""
+        return {}
 
     def before_update(self, runner: Runner, env_params: EnvParams, pool: Level | None, key: jax.Array, update: int):
         """The runner before update `update` (0-based); `key` is the update's own stream, a function of the update

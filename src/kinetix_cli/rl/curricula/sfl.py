@@ -23,7 +23,7 @@ from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.episode import run_episode
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
-from kinetix_cli.parallel import batch_sharded, check_divisible, replicated
+from kinetix_cli.parallel import batch_sharded, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
 from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.networks import sampling_policy
@@ -135,9 +135,9 @@ class SFL(Curriculum):
         return self.curriculum.buffer_size
 
     @classmethod
-    def check_split(cls, curriculum, mesh) -> None:
-        batch = curriculum.score_batch * curriculum.score_attempts
-        check_divisible(batch, mesh, "curriculum.score_batch * curriculum.score_attempts")
+    def split_sizes(cls, curriculum) -> dict[str, int]:
+        scored = curriculum.score_batch * curriculum.score_attempts
+        return {"curriculum.score_batch * curriculum.score_attempts": scored}
 
     def before_update(self, runner, env_params, pool, key, update):
         if update % self.curriculum.refresh_every:
