@@ -73,6 +73,16 @@ def pytest_configure(config):
     compile_cache.enable(COMPILE_CACHE)
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
+def pytest_collection_modifyitems(config, items):
+    """Each module's tests run in one xdist worker, as a group (`make test`: `--dist loadgroup`), unless the module
+    names a group of its own: its module-scoped fixtures and the programs its tests trace are then made once, not
+    once in each worker that a test of it lands on (three workers each warmed the browser test's studio, ~20 s)."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is None:
+            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
+
+
 @pytest.fixture(scope="session")
 def tiny_pool():
     """The tiny run's training levels on the device."""
