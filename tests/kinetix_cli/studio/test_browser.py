@@ -87,7 +87,16 @@ def test_build_play_solve_and_save_a_level_in_chromium(studio_url, browser, caps
         page.mouse.move(*at(*end), steps=8)
         page.mouse.up()
 
-    def settle() -> None:
+    checks = set()  # the level checks in flight: each edit sends one
+    page.on("request", lambda request: checks.add(request) if "/api/check" in request.url else None)
+    page.on("requestfinished", lambda request: checks.discard(request))
+    page.on("requestfailed", lambda request: checks.discard(request))
+
+    def settle() -> None:  # every edit so far checked: a click must not land on the scene of an earlier level
+        deadline = time.monotonic() + 30
+        while checks and time.monotonic() < deadline:
+            page.wait_for_timeout(20)
+        assert not checks, "a level check did not answer within 30 s"
         sync_api.expect(message).to_contain_text("valid level")
 
     # a green ball at (1, 2.5) in place of the new level's default ball at (2.5, 2.5)
