@@ -49,7 +49,7 @@ comes before the runtime's abort (a C++ check failure and stack trace)."""
 
 def fitting_devices(sizes: dict[str, int]) -> int | None:
     """Local devices for work that splits batches of these global `sizes` (setting -> size) when the user named no
-    count: None (all of them), except on a CPU split by default (`split_cpu`, one process), where it is the most
+    count: None (all of them), except on a CPU split by default (`cpu.split`, one process), where it is the most
     devices every size splits over evenly, with a warning when that is fewer than all. (A count the user chose is
     checked by `check_divisible` instead: one clear error.)"""
     local = jax.local_devices()
