@@ -32,15 +32,11 @@ $(ALL_STAMP): $(CMP_STAMP)
 	$(BIN)/pip install -q --no-compile -c constraints.txt -e ".[dev,compare,wandb]"
 	touch $@
 
-# The bytecode of every module kinetix imports (jax, flax, optax, orbax, ...), written once into .venv and src's
-# __pycache__. Where PYTHONDONTWRITEBYTECODE is set (as on this machine) Python never writes it, so every process
-# compiled those modules from source again: 8 s to import the training code instead of 4 here, in each of the ~20
-# `kinetix` processes of `make demo` and the many that `make test` starts.
-BYTECODE := $(VENV)/.bytecode
-$(BYTECODE): $(STAMP)
-	env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -c "import importlib, pkgutil, kinetix_cli as k; \
-	[importlib.import_module(m.name) for m in pkgutil.walk_packages(k.__path__, 'kinetix_cli.')]"
-	touch $@
+# Every command make runs writes the bytecode of what it imports (jax, flax, optax, orbax, ...) into .venv and
+# __pycache__, as Python does by default. Where PYTHONDONTWRITEBYTECODE is set (as on this machine) Python never
+# writes it, so every process compiled those modules from source again: 8 s to import the training code instead of
+# 4 here, in each of the ~20 `kinetix` processes of `make demo` and the many that `make test` starts.
+unexport PYTHONDONTWRITEBYTECODE
 
 $(DOCS_STAMP): $(STAMP)
 	$(BIN)/pip install -q --no-compile -c constraints.txt -e ".[dev,docs]"
@@ -77,7 +73,7 @@ TUNE := --config experiments/cpu-small.yaml --set ppo.total_timesteps=200000 --s
 SCRATCH_NETWORK := --set model.name=rel-mlp --set model.width=64 --set model.mask_unused_actions=true  # the agents'
 
 
-demo: $(STAMP) $(BYTECODE)
+demo: $(STAMP)
 	rm -rf demo-out/levels-s demo-out/pretrain demo-out/finetune demo-out/scratch
 	$(BIN)/kinetix demo
 	$(BIN)/kinetix validate --play $(DEMO_LEVEL)
@@ -119,10 +115,10 @@ docs: $(DOCS_STAMP)
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 # `make test KINETIX_TEST_CODEGEN=release`: compiled as `kinetix` compiles (tests/conftest.py), to check tolerances.
-test: $(CMP_STAMP) $(BYTECODE) lint reference-levels
+test: $(CMP_STAMP) lint reference-levels
 	$(BIN)/pytest -m "not slow" -n $(TEST_WORKERS) --dist loadgroup --durations=15 $(PYTEST_FLAGS)
 
-test-all: lint reference-levels $(ALL_STAMP) $(BYTECODE)
+test-all: lint reference-levels $(ALL_STAMP)
 	$(BIN)/pytest $(PYTEST_FLAGS)
 
 bench: $(CMP_STAMP)
