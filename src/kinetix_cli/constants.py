@@ -76,3 +76,6 @@ COMPARE_FORMAT = "kinetix-compare/1"
 """`kinetix compare --json` tables."""
 REPORT_FORMAT = "kinetix-report/1"
 """A run report's `report.json`: what its page shows, as numbers."""
+
+COMPUTE_TYPES = ("float32", "bfloat16")
+"""Number types a network can compute in (`model.compute`); parameters and optimiser state are float32 either way."""

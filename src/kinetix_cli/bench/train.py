@@ -28,7 +28,7 @@ from kinetix_cli.bench.breakdown import Breakdown, UpdateSetup, measure_breakdow
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.bench.timing import time_calls
 from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
-from kinetix_cli.constants import MODEL_NAMES, MODEL_OBSERVATIONS
+from kinetix_cli.constants import COMPUTE_TYPES, MODEL_NAMES, MODEL_OBSERVATIONS
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import UserError
 from kinetix_cli.io import check_output_dir
@@ -51,6 +51,7 @@ class TrainBenchConfig:
         num_steps: rollout length per environment per update.
         epochs, minibatches: PPO passes over each rollout and minibatches per pass.
         width, layers: hidden width (entity encoders, transformer, heads) and actor/critic hidden layers.
+        computes: number types the networks compute in (`model.compute`: 'float32', 'bfloat16'), each measured.
         min_time: seconds of timed updates per measurement (at least 2 updates).
         distinct_levels: random full levels the environments reset to.
         seed: seed of the levels, parameters and actions.
@@ -67,6 +68,7 @@ class TrainBenchConfig:
     minibatches: int = 4
     width: int = 128
     layers: int = 5
+    computes: tuple[str, ...] = ("float32",)
     min_time: float = 5.0
     distinct_levels: int = 128
     seed: int = 0
@@ -91,9 +93,10 @@ class TrainBenchResult:
     devices: int = 1
     breakdown: Breakdown | None = None
     trace: str | None = None
+    compute: str = "float32"
 
 
-def experiment_for(config: TrainBenchConfig, model: str, envs: int) -> ExperimentConfig:
+def experiment_for(config: TrainBenchConfig, model: str, envs: int, compute: str = "float32") -> ExperimentConfig:
     """The experiment config of one measurement (a single update's worth of steps)."""
     ppo = PPOSettings(
         num_envs=envs,
@@ -104,7 +107,7 @@ def experiment_for(config: TrainBenchConfig, model: str, envs: int) -> Experimen
     )
     return ExperimentConfig(
         env=EnvSettings(size=config.size, observation=MODEL_OBSERVATIONS[model][0]),
-        model=ModelSettings(name=model, width=config.width, actor_critic_layers=config.layers),
+        model=ModelSettings(name=model, width=config.width, actor_critic_layers=config.layers, compute=compute),
         ppo=ppo,
     )
 
@@ -116,6 +119,9 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
     for model in config.models:
         if model not in MODEL_NAMES:
             raise UserError(f"--models: unknown model {model!r}; choose from {', '.join(MODEL_NAMES)}")
+    for compute in config.computes:
+        if compute not in COMPUTE_TYPES:
+            raise UserError(f"--compute: unknown number type {compute!r}; choose from {', '.join(COMPUTE_TYPES)}")
     for envs in config.envs:
         if (envs * config.num_steps) % config.minibatches:
             raise UserError(
@@ -133,16 +139,17 @@ def bench_train(config: TrainBenchConfig, report: Callable[[TrainBenchResult], N
     results = []
     for model in config.models:
         for envs in config.envs:
-            for mesh in meshes:
-                with using(mesh):
-                    result = _measure(config, model, envs, replicate(pool, mesh), mesh)
-                results.append(result)
-                report(result)
+            for compute in config.computes:
+                for mesh in meshes:
+                    with using(mesh):
+                        result = _measure(config, model, envs, compute, replicate(pool, mesh), mesh)
+                    results.append(result)
+                    report(result)
     return results
 
 
-def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> TrainBenchResult:
-    experiment = experiment_for(config, model, envs)
+def _measure(config: TrainBenchConfig, model: str, envs: int, compute: str, pool, mesh) -> TrainBenchResult:
+    experiment = experiment_for(config, model, envs, compute)
     env, env_params = make_env(
         experiment.env, pairs=experiment.model.reads_pairs, attention=experiment.model.reads_attention
     )
@@ -154,7 +161,9 @@ def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> Tra
     compile_s, rate, calls = time_calls(one_update, (runner,), envs * config.num_steps, config.min_time)
     parameters = parameter_count(runner.params)
     observation = experiment.env.observation
-    result = TrainBenchResult(model, observation, config.size, envs, parameters, compile_s, rate, calls, mesh.size)
+    result = TrainBenchResult(
+        model, observation, config.size, envs, parameters, compile_s, rate, calls, mesh.size, compute=compute
+    )
     if config.breakdown:
         setup = UpdateSetup(experiment, env, env_params, network, pool)
         update_ms = 1e3 * envs * config.num_steps / rate
@@ -168,5 +177,7 @@ def _measure(config: TrainBenchConfig, model: str, envs: int, pool, mesh) -> Tra
 
 
 def trace_name(result: TrainBenchResult) -> str:
-    """The subfolder of a measurement's trace: model, size, environments and devices."""
-    return f"{result.model}-{result.size}-envs{result.envs}-devices{result.devices}"
+    """The subfolder of a measurement's trace: model, size, environments, devices, and the number type unless
+    float32."""
+    compute = "" if result.compute == "float32" else f"-{result.compute}"
+    return f"{result.model}-{result.size}-envs{result.envs}-devices{result.devices}{compute}"

@@ -153,6 +153,9 @@ def bench_train_command(
     minibatches: int = typer.Option(4, min=1, max=4096, help="Minibatches per epoch."),
     width: int = typer.Option(128, min=1, max=4096, help="Hidden width of the models."),
     layers: int = typer.Option(5, min=1, max=64, help="Actor and critic hidden layers."),
+    compute: str = typer.Option(
+        "float32", help="Comma-separated number types the networks compute in: float32, bfloat16 (mixed precision)."
+    ),
     min_time: float = typer.Option(5.0, min=0.0, max=3600.0, help="Seconds of timed updates per measurement."),
     seed: int = typer.Option(0, min=0, max=INT32_MAX, help="Seed of the levels, parameters and actions."),
     devices: str = typer.Option(
@@ -179,21 +182,23 @@ def bench_train_command(
         minibatches=minibatches,
         width=width,
         layers=layers,
+        computes=name_list(compute),
         min_time=min_time,
         seed=seed,
         devices=None if devices is None else int_list("--devices", devices),
         breakdown=breakdown,
         trace=None if trace is None else str(trace),
     )
-    table = Table("model", "observation", "size", "envs", "devices", "parameters", "compile [s]", "env steps/s")
+    columns = ("model", "observation", "size", "envs", "compute", "devices", "parameters", "compile [s]", "env steps/s")
+    table = Table(*columns)
 
     def report(r):
         console.print(
-            f"{r.model:12s} size {r.size} envs {r.envs:5d} devices {r.devices}: compile {r.compile_s:6.1f} s, "
-            f"{r.steps_per_s:10,.0f} env steps/s",
+            f"{r.model:12s} size {r.size} envs {r.envs:5d} {r.compute} devices {r.devices}: "
+            f"compile {r.compile_s:6.1f} s, {r.steps_per_s:10,.0f} env steps/s",
             style="dim",
         )
-        row = (r.model, r.observation, r.size, str(r.envs), str(r.devices), f"{r.parameters:,}")
+        row = (r.model, r.observation, r.size, str(r.envs), r.compute, str(r.devices), f"{r.parameters:,}")
         table.add_row(*row, f"{r.compile_s:.1f}", f"{r.steps_per_s:,.0f}")
 
     results = bench_train(config, report)

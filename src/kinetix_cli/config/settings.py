@@ -13,6 +13,7 @@ from engine import SIZES
 from kinetix_cli.config.fields import ConfigError, check_types, require, within
 from kinetix_cli.constants import (
     ACTION_TYPES,
+    COMPUTE_TYPES,
     EXPERIMENT_FORMAT,
     INT32_MAX,
     MODEL_NAMES,
@@ -32,6 +33,7 @@ ActionKind = Literal[ACTION_TYPES]
 ModelName = Literal[MODEL_NAMES]
 WandbMode = Literal["off", "offline", "online"]
 MirrorJoin = Literal["none", "mean", "geometric"]
+ComputeType = Literal[COMPUTE_TYPES]
 LevelSource = Literal["fresh", "generated", "levelset", "files"]
 CurriculumName = Literal["dr", "sfl", "plr", "accel"]
 PLRScore = Literal["maxmc", "pvl"]
@@ -94,6 +96,9 @@ class ModelSettings:
             (the environment observes both): 'mean' of the two action probabilities or their 'geometric' mean, the
             value the mean of the two. Left-right equivariant by construction, in training too; the parameters are
             the plain model's (a plain agent starts such a run, and back). Two network calls a step.
+        compute: the number type of the network's arithmetic: 'float32', or 'bfloat16' (mixed precision: the
+            parameters, the optimiser's state, the loss and the distributions stay float32; the layers compute in
+            bfloat16). Checkpoints are the same either way.
     """
 
     SECTION: ClassVar[str] = "model"
@@ -105,6 +110,7 @@ class ModelSettings:
     heads: int = 8
     mask_unused_actions: bool = False
     mirror: MirrorJoin = "none"
+    compute: ComputeType = "float32"
 
     @property
     def reads_pairs(self) -> bool:

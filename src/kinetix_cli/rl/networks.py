@@ -463,6 +463,8 @@ def make_network(model: ModelSettings, env: EnvSettings) -> nn.Module:
     (`constants.MODEL_OBSERVATIONS`; a validated `ExperimentConfig` never has one). With `model.mirror` it is the
     `MirrorJoinedNetwork` of the plain model."""
     base = _plain_network(model, env)
+    if model.compute != "float32":
+        base = MixedPrecisionNetwork(base, jnp.dtype(model.compute))
     return base if model.mirror == "none" else MirrorJoinedNetwork(base, model.mirror)
 
 
@@ -531,6 +533,29 @@ class MirrorJoinedNetwork:
 
     def apply(self, params, pair):
         return _joined(self.base.apply(params, pair[0]), self.base.apply(params, pair[1]), self.mode)
+
+
+@dataclasses.dataclass(frozen=True)
+class MixedPrecisionNetwork:
+    """A plain actor-critic `base` whose layers compute in `compute` (`model.compute`, e.g. bfloat16): `apply` casts
+    the float32 parameters and the observation's floats to it and the outputs (distribution, value) back to float32.
+    The parameters stay float32 (the same `init` and tree), so the optimiser updates float32 weights with float32
+    gradients (the casts' gradients), and checkpoints and agents are the plain model's."""
+
+    base: nn.Module
+    compute: jnp.dtype
+
+    def init(self, key: jax.Array, obs):
+        return self.base.init(key, obs)
+
+    def apply(self, params, obs):
+        dist, value = self.base.apply(_floats_as(params, self.compute), _floats_as(obs, self.compute))
+        return _floats_as(dist, jnp.float32), value.astype(jnp.float32)
+
+
+def _floats_as(tree, dtype):
+    """`tree` with its floating-point leaves cast to `dtype` (integer and boolean leaves as they are)."""
+    return jax.tree.map(lambda x: x.astype(dtype) if jnp.issubdtype(x.dtype, jnp.floating) else x, tree)
 
 
 @dataclasses.dataclass(frozen=True)

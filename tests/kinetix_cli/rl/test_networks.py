@@ -3,6 +3,7 @@ real observations, masked rows and slot order that do not change the output, and
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -321,6 +322,30 @@ def test_gradients_are_finite_through_masks():
 
     grads = jax.jit(jax.grad(loss))(params)
     assert all(np.all(np.isfinite(g)) for g in jax.tree.leaves(grads))
+
+
+@pytest.mark.parametrize("model", ["rel-mlp", "transformer"])
+def test_a_bfloat16_network_keeps_float32_parameters_and_outputs_and_computes_near_float32(model):
+    """`model.compute: bfloat16`: the same float32 parameters (a plain agent loads), float32 outputs and gradients,
+    and outputs within bfloat16's rounding of the float32 network's (8 bits of mantissa: ~0.4% per operation)."""
+    settings = ModelSettings(name=model, width=16, actor_critic_layers=2, heads=4)
+    env = EnvSettings(size="s", observation="symbolic-entity")
+    plain, mixed = make_network(settings, env), make_network(dataclasses.replace(settings, compute="bfloat16"), env)
+    obs = observations("s", "symbolic-entity")
+    params = jax.jit(plain.init)(jax.random.key(0), obs)
+    assert jax.tree.structure(jax.jit(mixed.init)(jax.random.key(0), obs)) == jax.tree.structure(params)
+
+    def loss(net, params):
+        dist, value = net.apply(params, obs)
+        return jnp.sum(dist.log_prob(jnp.ones((BATCH, 6), jnp.int32)) + value**2), (dist.logits, value)
+
+    (_, (logits, value)), grads = jax.jit(jax.value_and_grad(functools.partial(loss, mixed), has_aux=True))(params)
+    _, (plain_logits, plain_value) = jax.jit(functools.partial(loss, plain))(params)
+    assert logits.dtype == value.dtype == jnp.float32
+    assert all(g.dtype == jnp.float32 and np.all(np.isfinite(g)) for g in jax.tree.leaves(grads))
+    assert np.any(np.asarray(logits) != np.asarray(plain_logits)), "computed in bfloat16, not float32"
+    np.testing.assert_allclose(logits, plain_logits, rtol=0.05, atol=0.02)  # [logit]
+    np.testing.assert_allclose(value, plain_value, rtol=0.05, atol=0.02)  # [return]
 
 
 def test_kl_divergence_by_hand_and_by_integration():
