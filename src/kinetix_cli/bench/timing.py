@@ -13,9 +13,12 @@ import jax
 from kinetix_cli.provenance import environment_info
 
 
-def time_calls(fn: Callable, carry: tuple, steps_per_call: int, min_time: float) -> tuple[float, float, int]:
+def time_calls(
+    fn: Callable, carry: tuple, steps_per_call: int, min_time: float, statistic: Callable = statistics.median
+) -> tuple[float, float, int]:
     """Compile `fn(*carry) -> carry` and call it repeatedly for at least `min_time` seconds (after a warm-up
-    call). Returns (compile seconds, median steps/s, timed calls)."""
+    call). Returns (compile seconds, steps/s by `statistic` over the calls (the median; `max` for a limit), timed
+    calls)."""
     start = time.perf_counter()
     compiled = jax.jit(fn).lower(*carry).compile()
     compile_s = time.perf_counter() - start
@@ -27,7 +30,7 @@ def time_calls(fn: Callable, carry: tuple, steps_per_call: int, min_time: float)
         elapsed = time.perf_counter() - start
         spent += elapsed
         rates.append(steps_per_call / elapsed)
-    return compile_s, statistics.median(rates), len(rates)
+    return compile_s, statistic(rates), len(rates)
 
 
 def time_keyed(step_fn: Callable, carry, keys, steps: int, min_time: float) -> tuple[float, float, int]:
