@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import shutil
 
-import pytest
 import yaml
 
 from helpers.paths import EXPERIMENTS, REFERENCE_LEVELS
@@ -50,15 +49,10 @@ SFL = [
     "curriculum.buffer_share=0.5",
     f"levels.files=[{LEARN_LEVEL}, {LEARN_LEVEL}]",  # two copies: the tiny run's pool shape, so its compiles are shared
     "ppo.total_timesteps=19200",  # 300 updates of 8 envs x 8 steps
-    "run.checkpoint_every=100",
+    "run.checkpoint_every=148",  # checkpoints 148, 296 and the last, 300: a resume from 296 runs 4 updates
     "run.eval_every=0",
 ]
 """`--set` values of the tiny SFL run, on top of `TINY`: the learning smoke test and the SFL run tests share it."""
-
-
-SFL_RUN_GROUP = pytest.mark.xdist_group("sfl-run")
-"""`pytestmark` of the modules that use the session's tiny SFL run: `make test` (xdist, `--dist loadgroup`) runs them
-in one worker, which makes the run once."""
 
 
 def sfl_config(*overrides: str) -> ExperimentConfig:

@@ -13,15 +13,13 @@ import pytest
 
 from helpers.cli import kinetix
 from helpers.pages import read_report
-from helpers.runs import SFL_RUN_GROUP, sfl_config, tiny_config
+from helpers.runs import sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.curricula.sfl import episode_counts
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.ppo import init_runner
 from kinetix_cli.rl.train import train
-
-pytestmark = SFL_RUN_GROUP
 
 
 def lines(run_dir):
@@ -42,12 +40,12 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
     np.testing.assert_allclose(scores, whole.buffer.solve_rate * (1 - whole.buffer.solve_rate), rtol=1e-6, atol=1e-7)
     assert (np.diff(scores) <= 0).all(), "best first"
 
-    # The run as a kill before its last checkpoint leaves it: checkpoints 100 and 200, every metrics line written
+    # The run as a kill before its last checkpoint leaves it: checkpoints 148 and 296, every metrics line written
     cut = tmp_path / "cut"
     shutil.copytree(run_dir, cut)
     shutil.rmtree(cut / "checkpoints" / "300")
     config, pool = sfl_config(), level_pool(sfl_config())
-    resumed = train(config, cut, resume=True, pool=pool)  # from checkpoint 200, buffer included
+    resumed = train(config, cut, resume=True, pool=pool)  # from checkpoint 296, buffer included
     jax.tree.map(np.testing.assert_array_equal, whole.params, resumed.params)
     jax.tree.map(np.testing.assert_array_equal, whole.buffer, resumed.buffer)
     assert lines(tmp_path / "cut") == records
