@@ -73,54 +73,14 @@ def pytest_configure(config):
     compile_cache.enable(COMPILE_CACHE)
 
 
-TESTS = Path(__file__).parent
-
-GROUPS: dict[str, tuple[str, ...]] = {
-    # the level sampler, fresh levels and the generator's filters, at size s: 4 of these modules took 301 s as 4
-    # processes here and 117 s as one
-    "generator": (
-        "kinetix_cli/cli/test_generate.py",
-        "kinetix_cli/generator/test_filters.py",
-        "kinetix_cli/generator/test_fresh.py",
-        "kinetix_cli/generator/test_mutate.py",
-        "kinetix_cli/generator/test_sampler.py",
-        "kinetix_cli/gym/test_environment.py",
-        "kinetix_cli/gym/test_vector.py",
-        "kinetix_cli/bench/test_gym.py",
-        "hostile/test_sources_on_devices.py",
-    ),
-    # the shipped agents' networks and evaluators, and fine-tuning from them
-    "agents": (
-        "kinetix_cli/rl/test_agents.py",
-        "kinetix_cli/rl/test_shipped.py",
-        "kinetix_cli/studio/test_app.py",
-        "kinetix_cli/cli/test_train.py",
-    ),
-    # the session's tiny SFL run (300 updates), made once
-    "sfl-run": ("kinetix_cli/rl/curricula/test_sfl.py", "kinetix_cli/rl/test_learning.py"),
-}
-"""xdist groups of test modules (paths under tests/) that trace the same programs: `make test` (`--dist loadgroup`)
-runs a group in one worker, so its programs and session fixtures are traced and made once, not once in each worker
-that one of its modules lands on. Every other module is a group of its own. The groups are the heaviest work of
-the suite and are handed out first, in this order, so that no worker starts one near the end."""
-
-
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
 def pytest_collection_modifyitems(config, items):
-    """Each module's tests run in one xdist worker, as a group (`GROUPS`, else the module alone): its module-scoped
-    fixtures and the programs its tests trace are then made once, not once in each worker that a test of it lands
-    on (three workers each warmed the browser test's studio, ~20 s). The tests of `GROUPS` come first."""
-    group_of = {module: group for group, modules in GROUPS.items() for module in modules}
-    missing = sorted(module for module in group_of if not (TESTS / module).is_file())
-    if missing:
-        raise pytest.UsageError(f"tests/conftest.py GROUPS: no such test module: {', '.join(missing)}")
-    rank = {group: i for i, group in enumerate(GROUPS)}
-    ranks = {}
+    """Each module's tests run in one xdist worker, as a group (`make test`: `--dist loadgroup`), unless the module
+    names a group of its own: its module-scoped fixtures and the programs its tests trace are then made once, not
+    once in each worker that a test of it lands on (three workers each warmed the browser test's studio, ~20 s)."""
     for item in items:
-        group = group_of.get(item.path.relative_to(TESTS).as_posix(), item.module.__name__)
-        item.add_marker(pytest.mark.xdist_group(group))
-        ranks[item.nodeid] = rank.get(group, len(rank))
-    items.sort(key=lambda item: ranks[item.nodeid])
+        if item.get_closest_marker("xdist_group") is None:
+            item.add_marker(pytest.mark.xdist_group(item.module.__name__))
 
 
 @pytest.fixture(scope="session")

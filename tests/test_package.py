@@ -24,6 +24,8 @@ import pytest
 from helpers.paths import REPO
 from helpers.processes import TIMEOUT, process_env
 
+pytestmark = pytest.mark.xdist_group("wheel")  # one worker builds the wheel once for all of them
+
 
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import shutil
 
+import pytest
 import yaml
 
 from helpers.paths import EXPERIMENTS, REFERENCE_LEVELS
@@ -53,6 +54,11 @@ SFL = [
     "run.eval_every=0",
 ]
 """`--set` values of the tiny SFL run, on top of `TINY`: the learning smoke test and the SFL run tests share it."""
+
+
+SFL_RUN_GROUP = pytest.mark.xdist_group("sfl-run")
+"""`pytestmark` of the modules that use the session's tiny SFL run: `make test` (xdist, `--dist loadgroup`) runs them
+in one worker, which makes the run once."""
 
 
 def sfl_config(*overrides: str) -> ExperimentConfig:

@@ -25,6 +25,8 @@ from helpers.runs import SFL, TINY, TRAIN_LEVELS, set_args, tiny_config
 from kinetix_cli.rl.agents import load_policy
 from kinetix_cli.rl.train import train
 
+pytestmark = pytest.mark.xdist_group("generate-s-32")  # the 1-device pool is generated with its chunk program
+
 PARAMS_ATOL = 1e-5
 FOUR = ["ppo.total_timesteps=256", "run.eval_every=0"]
 """The tiny run's first 4 updates, checkpoints 2 and 4."""

@@ -16,6 +16,7 @@ from kinetix_cli.levels import export
 from kinetix_cli.levels.export import export_level
 from kinetix_cli.levels.files import load_level
 
+pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_filters: one worker compiles the chunk program
 runner = CliRunner()
 CHUNK = 32
 

@@ -14,6 +14,7 @@ from kinetix_cli.errors import UserError
 from kinetix_cli.generator.filters import FILTER_SETTINGS, FilterConfig, generate_chunk, make_config, parse_filters
 
 CHUNK = 32
+pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_generate: one worker compiles the chunk program
 
 
 @pytest.fixture(scope="session")

@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import jax
 
-from helpers.runs import LEARN_LEVEL, sfl_config
+from helpers.runs import LEARN_LEVEL, SFL_RUN_GROUP, sfl_config
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.evaluate import Evaluator
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.ppo import init_runner
+
+pytestmark = SFL_RUN_GROUP
 
 
 def test_a_small_sfl_run_learns_a_level_from_scratch(sfl_run):

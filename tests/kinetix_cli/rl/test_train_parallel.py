@@ -29,6 +29,8 @@ from helpers.runs import SFL, TINY, set_args, sfl_config
 from kinetix_cli.parallel import PEER_LOST_EXIT
 from kinetix_cli.rl.agents import load_policy
 
+pytestmark = pytest.mark.xdist_group("train-parallel")  # one worker makes the module's runs
+
 PRETRAIN = ["pretrain", "--config", "experiments/cpu-small.yaml", *set_args(TINY)]
 FOUR = [*PRETRAIN, "--set", "ppo.total_timesteps=256", "--set", "run.eval_every=0"]
 """The tiny run's first 4 updates (training keys do not depend on evaluation or the total)."""

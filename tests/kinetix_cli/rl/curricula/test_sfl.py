@@ -13,13 +13,15 @@ import pytest
 
 from helpers.cli import kinetix
 from helpers.pages import read_report
-from helpers.runs import sfl_config, tiny_config
+from helpers.runs import SFL_RUN_GROUP, sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.curricula.sfl import episode_counts
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.ppo import init_runner
 from kinetix_cli.rl.train import train
+
+pytestmark = SFL_RUN_GROUP
 
 
 def lines(run_dir):
