@@ -43,6 +43,7 @@ def test_an_sfl_run_logs_its_buffer_resumes_bit_identically_and_draws_it(capsys,
     assert (np.diff(scores) <= 0).all(), "best first"
 
     # The run as a kill before its last checkpoint leaves it: checkpoints 148 and 296, every metrics line written
+    assert sorted(p.name for p in (run_dir / "checkpoints").iterdir()) == ["148", "296", "300"]
     cut = tmp_path / "cut"
     shutil.copytree(run_dir, cut)
     shutil.rmtree(cut / "checkpoints" / "300")
