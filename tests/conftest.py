@@ -5,14 +5,19 @@ from __future__ import annotations
 
 import gc
 import os
+import shutil
 from pathlib import Path
 
+import hypothesis
 import jax
 import pytest
+from filelock import FileLock
 
+from helpers.levelsets import CHUNK
 from helpers.processes import FAST_CODEGEN, FAST_COMPILE
 from helpers.runs import sfl_config, tiny_config
 from kinetix_cli import compile_cache, cpu
+from kinetix_cli.generator.filters import generate_chunk, make_config
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
 
@@ -71,6 +76,11 @@ def pytest_configure(config):
         os.environ[FAST_COMPILE] = "1"
         jax.config.update("jax_disable_most_optimizations", True)
     compile_cache.enable(COMPILE_CACHE)
+    # The fuzz tests (tests/hostile/test_fuzz.py) draw 300 examples per parser, derandomized; make test (-m "not
+    # slow") draws 100 (~20 s less here).
+    quick = config.getoption("markexpr", "") == "not slow"
+    hypothesis.settings.register_profile("kinetix", max_examples=100 if quick else 300)
+    hypothesis.settings.load_profile("kinetix")
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the groups
@@ -90,11 +100,31 @@ def tiny_pool():
 
 
 @pytest.fixture(scope="session")
-def tiny_run(tmp_path_factory, tiny_pool):
-    """A finished tiny run (6 updates, checkpoints 2, 4 and 6, evaluations at 4 and 6): its run directory."""
-    run_dir = tmp_path_factory.mktemp("runs") / "tiny"
-    train(tiny_config(), run_dir, pool=tiny_pool)
+def tiny_run(tmp_path_factory, tiny_pool, worker_id):
+    """A finished tiny run (6 updates, checkpoints 2, 4 and 6, evaluations at 4 and 6): its run directory, which
+    tests only read. Trained once per session: under xdist the first worker to ask trains it into the session's
+    folder shared by all workers (under a file lock) and the others read it there (each worker trained its own
+    before, ~20 s each here)."""
+    if worker_id == "master":  # no xdist
+        run_dir = tmp_path_factory.mktemp("runs") / "tiny"
+        train(tiny_config(), run_dir, pool=tiny_pool)
+        return run_dir
+    shared = tmp_path_factory.getbasetemp().parent  # this session's, one per `pytest -n` run
+    run_dir, done = shared / "tiny-run", shared / "tiny-run.done"
+    with FileLock(shared / "tiny-run.lock"):
+        if not done.exists():
+            shutil.rmtree(run_dir, ignore_errors=True)  # a worker that failed mid-run
+            train(tiny_config(), run_dir, pool=tiny_pool)
+            done.touch()
     return run_dir
+
+
+@pytest.fixture(scope="session")
+def first_chunk():
+    """Chunk 0 of a size-s set generated at seed 3 (`CHUNK` levels sampled, then filtered) by the library: its
+    generate config, kept levels and counts. `kinetix generate --seed 3 --chunk 32` starts with the same chunk."""
+    config = make_config("s", CHUNK)
+    return config, generate_chunk(config, seed=3, index=0)
 
 
 @pytest.fixture(scope="session")

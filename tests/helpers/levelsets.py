@@ -1,5 +1,5 @@
 """Small level sets: shipped s levels stored through the level-set writer (without compiling anything), and
-solved sets of them with their shipped solutions."""
+solved sets of them with their shipped solutions; the generated chunk the generator's tests share."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from pathlib import Path
 
 import jax
 import numpy as np
+import pytest
 
 from engine import SIZES
 from helpers.paths import LEVELS
@@ -19,6 +20,11 @@ from kinetix_cli.levels.levelset import SOLUTION_STEPS, Solutions, generate_leve
 from kinetix_cli.levels.solution import SOLUTION_SETTINGS, decode_solution
 
 FILES = sorted((LEVELS / "s").glob("*.json"))[:6]
+
+CHUNK = 32
+"""Levels sampled per chunk by the generator's tests: `kinetix generate --chunk 32` and the `first_chunk` fixture."""
+GENERATE_GROUP = pytest.mark.xdist_group("generate-s-32")
+"""`pytestmark` of the modules that generate chunks of `CHUNK` size-s levels: one worker compiles the program."""
 
 
 def small_levelset(

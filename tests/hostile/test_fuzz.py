@@ -19,7 +19,8 @@ from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.parse import parse_level
 from kinetix_cli.levels.reference import convert_reference_level
 
-FUZZ = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
+FUZZ = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
+"""Examples per parser: 300, or 100 in `make test` (-m "not slow"): the profile tests/conftest.py loads."""
 
 SCALARS = st.one_of(
     st.none(),

@@ -6,19 +6,23 @@ from __future__ import annotations
 
 import json
 
+import jax
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from helpers.cli import kinetix
+from helpers.levelsets import CHUNK, GENERATE_GROUP
 from helpers.processes import FORCE_2, exact_env, processes, run_ok, start
 from kinetix_cli.cli.app import app, main
+from kinetix_cli.env.level import level_count
 from kinetix_cli.levels import export
 from kinetix_cli.levels.export import export_level
 from kinetix_cli.levels.files import load_level
+from kinetix_cli.levels.levelset import load_levelset
 
-pytestmark = pytest.mark.xdist_group("generate-s-32")  # with test_filters: one worker compiles the chunk program
+pytestmark = GENERATE_GROUP
 runner = CliRunner()
-CHUNK = 32
 
 
 GENERATE = ["generate", "--size", "s", "--count", "40", "--seed", "3", "--chunk", str(CHUNK), "--shard-size", "16"]
@@ -37,13 +41,17 @@ def generated(tmp_path_factory):
     return out
 
 
-def test_generate_info_show_export(tmp_path, generated, capsys, monkeypatch):
+def test_generate_info_show_export(tmp_path, generated, capsys, monkeypatch, first_chunk):
     out, args = generated, GENERATE
     files = files_of(out)
     assert sorted(files) == ["manifest.json", "shard-00000.npz", "shard-00001.npz", "shard-00002.npz"]
     manifest = json.loads(files["manifest.json"])
     assert manifest["format"] == "kinetix-levelset/1" and manifest["count"] == 40
     assert manifest["settings"]["filters"] == {"noop": True, "random_attempts": 3, "random_max_rate": 0.5}
+    # the set starts with the levels its first chunk kept, as the library makes that chunk again: deterministic
+    _, (kept, _) = first_chunk
+    count = level_count(kept)
+    jax.tree.map(lambda a, b: np.testing.assert_array_equal(a[:count], b), load_levelset(out).levels, kept)
 
     again = runner.invoke(app, [*args, "--out", str(out)])  # a finished set: nothing to do, nothing changes
     assert again.exit_code == 0 and files_of(out) == files

@@ -61,10 +61,13 @@ def test_mutations_stay_valid_closed_and_in_the_arena(levels):
     assert changed[was_valid].mean() > 0.8 and not changed[~was_valid].any(), changed
 
 
+first_level = jax.jit(lambda batch: jax.tree.map(lambda x: x[0], batch))  # op by op: ~50 small compiles
+
+
 @pytest.mark.parametrize("edit", mutate._EDIT_FUNCTIONS, ids=mutate.EDITS)
 def test_each_edit_changes_what_it_names(levels, edit):
     static, batch = levels
-    level = jax.tree.map(lambda x: x[0], batch)  # rocket-car-jump: a car (joints) and a thruster
+    level = first_level(batch)  # rocket-car-jump: a car (joints) and a thruster
     if edit is mutate.add_thruster:  # size s has one thruster slot: free it first
         thrusters = level.physics.thrusters.replace(active=jnp.zeros_like(level.physics.thrusters.active))
         level = level.replace(physics=level.physics.replace(thrusters=thrusters))

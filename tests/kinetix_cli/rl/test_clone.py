@@ -45,12 +45,12 @@ def test_demonstrations_are_the_solved_levels_replayed_with_their_actions(solved
     demos, size = load_demonstrations(clone_config(solved_set, "clone.updates=1"))
     assert size == "s" and demos.length.shape == (2,)  # the unsolved level is left out
     env, params = demonstration_env(clone_config(solved_set, "clone.updates=1"), size)
-    observations, actions, valid = replay_observations(env, params, demos, jax.random.key(0), 8)
+    replay = jax.jit(replay_observations, static_argnums=(0, 4))  # op by op: ~80 small compiles
+    observations, actions, valid = replay(env, params, demos, jax.random.key(0), 8)
     rows = [int(np.flatnonzero((demos.actions == np.swapaxes(actions, 0, 1)[i]).all((1, 2)))[0]) for i in range(8)]
     np.testing.assert_array_equal(valid.sum(0), np.asarray(demos.length)[rows])  # the steps before each solve
-    first = jax.vmap(env.observe)(
-        jax.vmap(env.initial_state)(jax.tree.map(lambda x: x[np.asarray(rows)], demos.levels))
-    )
+    starts = jax.jit(lambda levels, rows: jax.vmap(env.initial_state)(jax.tree.map(lambda x: x[rows], levels)))
+    first = jax.vmap(env.observe)(starts(demos.levels, np.asarray(rows)))
     jax.tree.map(lambda a, b: np.testing.assert_allclose(a[0], b, rtol=0, atol=1e-6), observations, first)
 
 

@@ -182,21 +182,24 @@ def test_the_entropy_weight_moves_from_ent_coef_to_ent_coef_end_over_the_run():
     assert weights == pytest.approx([0.05, 0.03, 0.01, 0.01], abs=1e-8)  # [loss weight]: float32 ulp of 0.05 is 4e-9
 
 
+draw = jax.jit(draw_levels, static_argnums=2)  # op by op, each of a level's ~50 arrays is its own small compile
+
+
 def test_the_first_reset_happens_at_update_0_only():
     """A fresh source's environments start on a placeholder: update 0 resets them all to pool levels (the
     environments then hold exactly the levels `draw_levels` picks); any later update leaves them as they are."""
     static = SIZES["s"]
     env = KinetixEnv(static, observation="symbolic-flat")
     levels = random_levels(static, 4, 0)
-    start_obs, start_state = jax.vmap(env.reset_to_level)(index_level(levels, jnp.zeros(3, jnp.int32)))
-    pool, key = index_level(levels, jnp.arange(1, 4)), jax.random.key(5)
+    start_obs, start_state = jax.vmap(env.reset_to_level)(index_level(levels, np.zeros(3, np.int32)))
+    pool, key = index_level(levels, np.arange(1, 4)), jax.random.key(5)
 
     @jax.jit
     def reset(update):
         runner = Runner(None, None, start_state, start_obs, jnp.zeros(3), jax.random.key(0), update)
         return first_reset(runner, env, pool, key).obs
 
-    expected, _ = jax.vmap(env.reset_to_level)(draw_levels(pool, key, 3))
+    expected, _ = jax.vmap(env.reset_to_level)(draw(pool, key, 3))
     np.testing.assert_array_equal(reset(jnp.int32(0)), expected)
     assert not np.array_equal(expected, start_obs)
     np.testing.assert_array_equal(reset(jnp.int32(1)), start_obs)
@@ -214,7 +217,7 @@ def test_one_pass_per_step_gives_the_two_pass_rollouts_transitions():
         ModelSettings(name="flat-mlp", width=16, actor_critic_layers=1), EnvSettings(observation="symbolic-flat")
     )
     pool = random_levels(SIZES["s"], 4, 0)
-    obs, state = jax.vmap(env.reset_to_level)(draw_levels(pool, jax.random.key(1), envs))
+    obs, state = jax.vmap(env.reset_to_level)(draw(pool, jax.random.key(1), envs))
     slot = jnp.arange(envs)
     state = state.replace(steps=jnp.where(slot < 8, 15, slot % 16).astype(jnp.int32))  # step 1: 10 truncated, then 2
     params = jax.jit(network.init)(jax.random.key(2), obs)

@@ -5,6 +5,7 @@ bit-identically."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 
 import jax
@@ -27,26 +28,34 @@ PLR = [
 ]
 
 
+# Jitted: op by op, each of a level's ~50 arrays costs its own small compile (~40 ms each here).
+empty = jax.jit(empty_buffer, static_argnums=1)
+insert, rescore = jax.jit(plr.insert), jax.jit(plr.rescore)
+replay_probabilities = jax.jit(plr.replay_probabilities, static_argnums=2)
+sample_replay = jax.jit(plr.sample_replay, static_argnums=(2, 4))
+
+
+@functools.partial(jax.jit, static_argnums=3)
 def buffer_of(tiny_pool, scores, seen, capacity=6):
-    empty = empty_buffer(tiny_pool, capacity)
+    buffer = empty_buffer(tiny_pool, capacity)
     n = len(scores)
-    return empty.replace(
-        score=empty.score.at[:n].set(jnp.asarray(scores, jnp.float32)),
-        last_seen=empty.last_seen.at[:n].set(jnp.asarray(seen, jnp.int32)),
+    return buffer.replace(
+        score=buffer.score.at[:n].set(scores),
+        last_seen=buffer.last_seen.at[:n].set(seen),
         size=jnp.asarray(n, jnp.int32),
     )
 
 
 def test_replay_mixes_score_rank_and_staleness_over_filled_slots(tiny_pool):
-    buffer = buffer_of(tiny_pool, [0.1, 0.4, 0.2, 0.3], [9, 8, 5, 10])  # ranks 4, 1, 3, 2
+    buffer = buffer_of(tiny_pool, jnp.array([0.1, 0.4, 0.2, 0.3]), jnp.array([9, 8, 5, 10]))  # ranks 4, 1, 3, 2
     by_rank = CurriculumSettings(name="plr", staleness=0.0, temperature=0.5)
-    p = np.asarray(plr.replay_probabilities(buffer, jnp.asarray(10), by_rank))
+    p = np.asarray(replay_probabilities(buffer, jnp.asarray(10), by_rank))
     h = np.array([4.0, 1.0, 3.0, 2.0]) ** -2.0
     np.testing.assert_allclose(p, [*(h / h.sum()), 0, 0], rtol=1e-5, atol=1e-7)  # [probability]
     by_age = dataclasses.replace(by_rank, staleness=1.0)
-    p = np.asarray(plr.replay_probabilities(buffer, jnp.asarray(10), by_age))
+    p = np.asarray(replay_probabilities(buffer, jnp.asarray(10), by_age))
     np.testing.assert_allclose(p, [1 / 8, 2 / 8, 5 / 8, 0, 0, 0], rtol=1e-5, atol=1e-7)  # [probability]
-    slots = np.asarray(plr.sample_replay(buffer, jax.random.key(0), 512, jnp.asarray(10), by_age))
+    slots = np.asarray(sample_replay(buffer, jax.random.key(0), 512, jnp.asarray(10), by_age))
     assert set(slots) == {0, 1, 2} and (slots == 2).mean() > 0.5
 
 
@@ -68,18 +77,18 @@ def test_maxmc_and_pvl_scores():
 
 
 def test_insert_fills_empty_slots_then_replaces_lower_scores_and_rescore_updates_in_place(tiny_pool):
-    buffer = buffer_of(tiny_pool, [0.5, 0.1], [1, 1], capacity=3)
-    levels = jax.tree.map(lambda x: jnp.concatenate([x, x]), tiny_pool)  # 4 new levels
+    buffer = buffer_of(tiny_pool, jnp.array([0.5, 0.1]), jnp.array([1, 1]), 3)
+    levels = jax.jit(lambda pool: jax.tree.map(lambda x: jnp.concatenate([x, x]), pool))(tiny_pool)  # 4 new levels
     scores = jnp.array([0.3, 0.05, 0.7, 0.2])
     zeros = jnp.zeros(4)
-    inserted = plr.insert(buffer, levels, scores, zeros, zeros, 4)
+    inserted = insert(buffer, levels, scores, zeros, zeros, 4)
     np.testing.assert_allclose(inserted.score, [0.7, 0.5, 0.3], atol=1e-7)  # [score]: float32 copies
     np.testing.assert_array_equal(inserted.last_seen, [4, 1, 4])
     assert int(inserted.size) == 3 and int(inserted.rounds) == 1
-    few = plr.insert(empty_buffer(tiny_pool, 8), levels, scores, zeros, zeros, 0)
+    few = insert(empty(tiny_pool, 8), levels, scores, zeros, zeros, 0)
     assert int(few.size) == 4 and np.isneginf(np.asarray(few.score)[4:]).all()
 
-    rescored = plr.rescore(inserted, jnp.array([2, 0]), jnp.array([0.9, 0.1]), jnp.ones(2), jnp.ones(2), 6)
+    rescored = rescore(inserted, jnp.array([2, 0]), jnp.array([0.9, 0.1]), jnp.ones(2), jnp.ones(2), 6)
     np.testing.assert_allclose(rescored.score, [0.1, 0.5, 0.9], atol=1e-7)  # [score]: float32 copies
     np.testing.assert_array_equal(rescored.last_seen, [6, 1, 6])
     assert int(rescored.rounds) == 1
