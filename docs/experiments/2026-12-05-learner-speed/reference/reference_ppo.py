@@ -14,6 +14,7 @@ import json
 import os
 import platform
 import statistics
+import sys
 import time
 
 import jax
@@ -29,6 +30,12 @@ from kinetix.environment.utils import static_env_params_from_size
 from kinetix.environment.wrappers import GymnaxWrapper, LogWrapper
 from kinetix.models import ScannedRNN, make_network_from_config
 from kinetix.util.learning import sample_trajectories_and_learn
+
+# Compatibility shim, not a change to the reference's maths: kinetix-env 3.0.2's `update_actor_critic_rnn` and
+# `sample_trajectories_and_learn` call `jax.tree.tree_map`, a name no jax release has (the function is
+# `jax.tree.map`), so they fail while tracing. Give the name to the module for this process only.
+if not hasattr(jax.tree, "tree_map"):
+    jax.tree.tree_map = jax.tree.map
 
 # Hyperparameters of the reference's PPO config (configs/learning/ppo-base.yaml); they do not change the speed.
 PPO_SETTINGS = dict(
@@ -130,7 +137,11 @@ def build(args):
         return new_carry  # (rng, train_state, hstate, last obs, last env state)
 
     facts = {
-        "parameters": int(sum(x.size for x in jax.tree_util.tree_leaves(params))),
+        # Trainable weights only. `network.init` also returns the model's sown 'custom_intermediates' (dormancy
+        # statistics and the (1, envs, width) actor and critic features); the reference's PPO keeps them inside
+        # its train state too, so we do the same, and report their size apart.
+        "parameters": int(sum(x.size for x in jax.tree_util.tree_leaves(params["params"]))),
+        "train_state_leaves_size": int(sum(x.size for x in jax.tree_util.tree_leaves(params))),
         "obs_size": int(sum(x.size for x in jax.tree_util.tree_leaves(obs)) // args.envs),
         "action_dims": [int(n) for n in env.action_space(env_params).number_of_dims_per_distribution]
         if hasattr(env.action_space(env_params), "number_of_dims_per_distribution")
@@ -174,7 +185,10 @@ def main():
     if args.envs % args.minibatches:
         parser.error(f"--minibatches {args.minibatches} must divide --envs {args.envs} (the reference splits by env)")
 
+    started = time.perf_counter()
     update, carry, facts = build(args)
+    build_s = time.perf_counter() - started  # env reset + network init, eager (compiled apart from the update)
+    print(f"built env and network in {build_s:.1f} s; compiling the update", file=sys.stderr, flush=True)
     compile_s, steps_per_s, calls = time_update(update, carry, args.envs * args.steps, args.min_time)
     record = {
         "side": "reference",
@@ -189,6 +203,7 @@ def main():
         "layers": args.layers,
         "recurrent": args.recurrent,
         **facts,
+        "build_s": round(build_s, 3),
         "compile_s": round(compile_s, 3),
         "steps_per_s": round(steps_per_s, 1),
         "calls": calls,
@@ -207,6 +222,10 @@ def main():
     if args.json:
         with open(args.json, "w") as f:
             f.write(line + "\n")
+    # The process can hang for a while at interpreter exit (seen in the smoke test); the record is written.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)
 
 
 if __name__ == "__main__":
