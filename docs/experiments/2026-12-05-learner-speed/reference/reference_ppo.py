@@ -21,7 +21,6 @@ import jax
 import jax.numpy as jnp
 import optax
 from flax.training.train_state import TrainState
-
 from kinetix.environment.env import make_kinetix_env
 from kinetix.environment.env_state import EnvParams
 from kinetix.environment.spaces import ActionType, ObservationType
@@ -38,9 +37,7 @@ if not hasattr(jax.tree, "tree_map"):
     jax.tree.tree_map = jax.tree.map
 
 # Hyperparameters of the reference's PPO config (configs/learning/ppo-base.yaml); they do not change the speed.
-PPO_SETTINGS = dict(
-    gamma=0.995, gae_lambda=0.9, clip_eps=0.2, ent_coef=0.01, vf_coef=0.5, lr=5e-5, max_grad_norm=0.5
-)
+PPO_SETTINGS = dict(gamma=0.995, gae_lambda=0.9, clip_eps=0.2, ent_coef=0.01, vf_coef=0.5, lr=5e-5, max_grad_norm=0.5)
 # The reference's transformer settings (configs/model/model-transformer.yaml); used with --model transformer only.
 TRANSFORMER_SETTINGS = dict(
     transformer_depth=2,
@@ -125,9 +122,7 @@ def build(args):
     hstate = ScannedRNN.initialize_carry(args.envs)
     dones = jnp.zeros((args.envs,), dtype=bool)
     params = network.init(key_init, hstate, jax.tree.map(lambda x: x[None], (obs, dones)))
-    tx = optax.chain(
-        optax.clip_by_global_norm(config["max_grad_norm"]), optax.adam(config["lr"], eps=1e-5)
-    )
+    tx = optax.chain(optax.clip_by_global_norm(config["max_grad_norm"]), optax.adam(config["lr"], eps=1e-5))
     train_state = TrainState.create(apply_fn=network.apply, params=params, tx=tx)
 
     def update(rng, train_state, hstate, obs, env_state):
