@@ -100,12 +100,12 @@ def tiny_pool():
 
 
 @pytest.fixture(scope="session")
-def tiny_run(tmp_path_factory, tiny_pool, worker_id):
+def tiny_run(tmp_path_factory, tiny_pool):
     """A finished tiny run (6 updates, checkpoints 2, 4 and 6, evaluations at 4 and 6): its run directory, which
     tests only read. Trained once per session: under xdist the first worker to ask trains it into the session's
     folder shared by all workers (under a file lock) and the others read it there (each worker trained its own
     before, ~20 s each here)."""
-    if worker_id == "master":  # no xdist
+    if "PYTEST_XDIST_WORKER" not in os.environ:  # one process: nothing to share
         run_dir = tmp_path_factory.mktemp("runs") / "tiny"
         train(tiny_config(), run_dir, pool=tiny_pool)
         return run_dir
