@@ -8,7 +8,7 @@ For one model and environment count, at exactly the update's shapes (`UpdateSetu
 - each phase of `ppo.ppo_update` compiled as a function of its own and timed as the median over repeated calls
   (`bench.timing.time_calls`) on the transitions of one real rollout, in ms per update and as a share of the
   whole update's median:
-  `env step` (the rollout's `num_steps` `step_batch` calls, actions given, ended episodes restarting from
+  `env step` (the rollout's `num_steps` vmapped `env.step` calls, actions given, ended episodes restarting from
   pool levels, the final observation read as the rollout reads it), `rollout forward` (the rollout's network
   passes as `ppo.collect` makes them: one on each step's observations with action sampling, and
   `ppo.final_values` on the final observations of the rollout's truncated episodes), `GAE` (`ppo.gae`), `learn`
@@ -43,8 +43,8 @@ import jax.numpy as jnp
 from kinetix_cli.bench.env import EnvBenchConfig, bench_env
 from kinetix_cli.bench.timing import time_calls
 from kinetix_cli.config import ExperimentConfig
-from kinetix_cli.env.environment import EnvParams, KinetixEnv, step_batch
-from kinetix_cli.env.level import Level, draw_indices
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.parallel import batch_sharded
 from kinetix_cli.rl.ppo import Runner, Transition, collect, final_values, gae, learn, rollout_metrics, truncated_rows
 
@@ -224,15 +224,14 @@ def env_phase(setup: UpdateSetup) -> Callable:
     with the given (num_steps, envs, ...) actions; restarts are drawn from the pool per step as `ppo.collect`
     draws them, and the final observation, rewards and flags fold into the scalar `checksum`."""
     env, params, pool, envs = setup.env, setup.env_params, setup.pool, setup.experiment.ppo.num_envs
+    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
 
     def run(env_state, obs, key, checksum, actions):
         def body(carry, action):
             env_state, _, key, checksum = carry
             key, k_reset = jax.random.split(key)
-            index = batch_sharded(draw_indices(pool, k_reset, envs))
-            obs, env_state, reward, terminated, truncated, info = step_batch(
-                env, env_state, action, params, pool, index, truncated_rows(envs)
-            )
+            restart = batch_sharded(draw_levels(pool, k_reset, envs))
+            obs, env_state, reward, terminated, truncated, info = step(env_state, action, params, restart)
             checksum = checksum + _total((reward, terminated, truncated, info["solved"], info["final_observation"]))
             return (env_state, obs, key, checksum), None
 
@@ -407,9 +406,9 @@ def _phase(fn: Callable, carry: tuple, trips: int, counted: bool, min_time: floa
 def _rollout(setup: UpdateSetup) -> Callable:
     """runner -> (runner, transitions, finished returns): the update's rollout (`ppo.collect`)."""
     ppo = setup.experiment.ppo
-    draw = functools.partial(draw_indices, setup.pool, count=ppo.num_envs)
+    restart = functools.partial(draw_levels, setup.pool, count=ppo.num_envs)
     play = functools.partial(collect, env=setup.env, network=setup.network, num_steps=ppo.num_steps)
-    return lambda runner: play(runner, setup.env_params, setup.pool, draw)
+    return lambda runner: play(runner, setup.env_params, restart)
 
 
 def _zero_losses(setup: UpdateSetup, runner: Runner, transitions: Transition, advantages, targets) -> dict:

@@ -12,9 +12,6 @@ The interface, in the style of gymnax 1.0 and JaxUED (every function pure, jitta
 - `obs, state, reward, terminated, truncated, info = env.step(state, action, params, reset_level)`: one step;
   an episode that ended restarts from `reset_level` (drawn by the caller's level source), and
   `info["final_observation"]` is the observation after the step, before the reset.
-- `step_batch(env, states, actions, params, pool, index, rows)`: `env.step` over a batch of environments, each
-  ended episode restarting from `pool[index[i]]`, with only the ended environments reset and observed again (the
-  rollout's step).
 
 The environment is deterministic: no step takes a random key. Per environment step the action is held for
 `frame_skip` engine steps. Each engine step scores the task: any green-red contact -> -1 (takes priority), else
@@ -38,7 +35,7 @@ from engine import Params, State, Static, pair_table
 from kinetix_cli.config import EnvSettings
 from kinetix_cli.constants import BLUE, GREEN, OBSERVATION_TYPES, RED
 from kinetix_cli.env.actions import ACTION_TYPES, ActionSpace, action_space, binding_values, engine_actions
-from kinetix_cli.env.level import Bindings, Level, index_level
+from kinetix_cli.env.level import Bindings, Level
 from kinetix_cli.env.observations import symbolic_entity, symbolic_flat
 from kinetix_cli.env.pixels import pixel_observation
 
@@ -228,40 +225,3 @@ class KinetixEnv:
         if self.observation == "symbolic-entity":
             return symbolic_entity(self.static, state.physics, state.bindings, self.attention)
         return pixel_observation(self.static, state.physics, state.bindings)
-
-
-def step_batch(
-    env: KinetixEnv,
-    states: EnvState,
-    actions: jax.Array,
-    params: EnvParams,
-    pool: Level,
-    index: jax.Array,
-    rows: int,
-):
-    """`env.step` over a batch of environments (the leading axis of `states` and `actions`), where environment i's
-    episode, if it ends, restarts from level `index[i]` of the batch `pool`. Returns what
-    `jax.vmap(env.step, in_axes=(0, 0, None, 0))(states, actions, params, index_level(pool, index))` returns, with
-    less work: in a step few episodes end, and every other environment's new observation is its final one. So when
-    at most `rows` environments ended, only their levels are gathered, reset and observed, as one batch of `rows`
-    (padding rows are computed and dropped); when more ended (a run's first episodes end together), every row is,
-    as `env.step` does it."""
-    final_obs, stepped, reward, terminated, truncated, info = jax.vmap(env.step_env, in_axes=(0, 0, None))(
-        states, actions, params
-    )
-    done = terminated | truncated
-    count = done.shape[0]
-
-    def few():
-        ended = jnp.nonzero(done, size=rows, fill_value=count)[0]  # padding: out of range, so never written
-        levels = index_level(pool, index[jnp.minimum(ended, count - 1)])
-        obs, state = jax.vmap(env.reset_to_level)(levels)
-        put = lambda whole, part: whole.at[ended].set(part, mode="drop")  # noqa: E731
-        return jax.tree.map(put, final_obs, obs), jax.tree.map(put, stepped, state)
-
-    def every():
-        state = select_episodes(done, jax.vmap(env.initial_state)(index_level(pool, index)), stepped)
-        return jax.vmap(env.observe)(state), state
-
-    obs, state = jax.lax.cond(jnp.sum(done) <= rows, few, every)
-    return obs, state, reward, terminated, truncated, info | {"final_observation": final_obs}

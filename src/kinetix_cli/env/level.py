@@ -96,16 +96,9 @@ def draw_level(levels: Level, key: jax.Array) -> Level:
     return index_level(levels, jax.random.randint(key, (), 0, level_count(levels)))
 
 
-def draw_indices(levels: Level, key: jax.Array, count: int) -> jax.Array:
-    """(count,) int32 indices into a batch `levels`, drawn uniformly (with replacement), one key each: the draws
-    of `draw_levels`, without gathering the levels; jittable."""
-    draw = lambda k: jax.random.randint(k, (), 0, level_count(levels))  # noqa: E731
-    return jax.vmap(draw)(jax.random.split(key, count))
-
-
 def draw_levels(levels: Level, key: jax.Array, count: int) -> Level:
     """`count` levels drawn uniformly (with replacement) from a batch `levels`, one key each; jittable."""
-    return index_level(levels, draw_indices(levels, key, count))
+    return jax.vmap(draw_level, in_axes=(None, 0))(levels, jax.random.split(key, count))
 
 
 def to_device(level: Level) -> Level:

@@ -6,11 +6,10 @@ outside the jit). The environment, the network and the `PPOSettings` section are
 hashable by value), so every call with equal settings shares one compile; the level pool is an argument, so a new
 pool of the same shape does not recompile either.
 
-Episodes that end restart from a level drawn uniformly from the update's pool by the environment's batched
-auto-reset (`env.environment.step_batch`: `KinetixEnv.step` over the batch, resetting only the ended episodes).
-The pool is `levels` (a fixed pool on the device: generated at the start, a level set, level files) or, with the
-static `fresh` source (and `levels` None), a batch of `num_envs` new levels sampled at the start of every update
-inside the jit (`kinetix_cli.generator.fresh`). Each curriculum (`rl.curricula`) has an
+Episodes that end restart from a level drawn uniformly from the update's pool by the environment's own auto-reset
+(`KinetixEnv.step`). The pool is `levels` (a fixed pool on the device: generated at the start, a level set, level
+files) or, with the static `fresh` source (and `levels` None), a batch of `num_envs` new levels sampled at the
+start of every update inside the jit (`kinetix_cli.generator.fresh`). Each curriculum (`rl.curricula`) has an
 update of its own built from the same parts (`train_on`, or `collect`, `gae` and `learn`).
 
 Timeouts: an episode that hits the step cap is *truncated*, not terminated. Its last
@@ -34,8 +33,8 @@ import optax
 from flax import struct
 
 from kinetix_cli.config import PPOSettings
-from kinetix_cli.env.environment import EnvParams, KinetixEnv, step_batch
-from kinetix_cli.env.level import Level, draw_indices, draw_levels
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.parallel import batch_sharded, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, empty_buffer
@@ -204,23 +203,22 @@ def init_runner(
 def collect(
     runner: Runner,
     env_params: EnvParams,
-    pool: Level,
-    draw: Callable[[jax.Array], jax.Array],
+    restart: Callable[[jax.Array], Level],
     *,
     env: KinetixEnv,
     network: nn.Module,
     num_steps: int,
 ) -> tuple[Runner, Transition, jax.Array]:
-    """Play `num_steps` steps in every environment with the sampling policy. An episode that ends in environment i
-    restarts from level `draw(key)[i]` of the batch `pool`, with `draw(key)` one (num_envs,) draw of indices per
-    step (`env.environment.step_batch`: only the ended environments are reset and observed again). Returns the
-    runner (environments, observations, key and running returns advanced), the (num_steps, num_envs) transitions and
-    the returns of the episodes that ended at each step (0 elsewhere).
+    """Play `num_steps` steps in every environment with the sampling policy. Episodes that end restart from
+    `restart(key)`, a batch of one level per environment drawn at each step. Returns the runner (environments,
+    observations, key and running returns advanced), the (num_steps, num_envs) transitions and the returns of the
+    episodes that ended at each step (0 elsewhere).
 
     One network pass per step: the pass on a step's new observations gives the next step's policy and the value
     that bootstraps this step wherever its episode goes on (there the observation is the final one). Only a
     truncated episode bootstraps from an observation no pass sees (its final one, before the reset): those
     values come from a pass on just the truncated rows (`final_values`)."""
+    step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
     rows = truncated_rows(jax.tree.leaves(runner.obs)[0].shape[0])
 
     def env_step(carry, _):
@@ -230,8 +228,8 @@ def collect(
         action = dist.sample(k_act)
         log_prob = dist.log_prob(action)
         # --- step; ended episodes restart
-        obs, env_state, reward, terminated, truncated, info = step_batch(
-            env, runner.env_state, action, env_params, pool, batch_sharded(draw(k_reset)), rows
+        obs, env_state, reward, terminated, truncated, info = step(
+            runner.env_state, action, env_params, batch_sharded(restart(k_reset))
         )
         next_dist, next_obs_value = network.apply(runner.params, obs)
         final_value = final_values(network, runner.params, info["final_observation"], truncated, rows)
@@ -261,11 +259,11 @@ def collect(
 
 TRUNCATED_SHARE = 16
 """`final_values` evaluates the truncated rows of a step as one pass on 1/16 of the environments (at least one
-row) when they fit, else on all of them; `step_batch` restarts the ended episodes of a step the same way."""
+row) when they fit, else on all of them."""
 
 
 def truncated_rows(num_envs: int) -> int:
-    """Rows of the small pass of `final_values`, and of the restarts of `step_batch`, for `num_envs` environments."""
+    """Rows of the small pass of `final_values` for `num_envs` environments."""
     return max(1, num_envs // TRUNCATED_SHARE)
 
 
@@ -341,10 +339,10 @@ def train_on(
     """Collect `num_steps` steps in every env (ended episodes restart from levels drawn uniformly from `pool`),
     GAE, then `update_epochs` passes of `num_minibatches` minibatches. Returns the new runner (one more update)
     and the update's metrics (scalars)."""
-    draw = lambda key: draw_indices(pool, key, settings.num_envs)  # noqa: E731
+    restart = lambda key: draw_levels(pool, key, settings.num_envs)  # noqa: E731
     # --- collect
     runner, transitions, finished_return = collect(
-        runner, env_params, pool, draw, env=env, network=network, num_steps=settings.num_steps
+        runner, env_params, restart, env=env, network=network, num_steps=settings.num_steps
     )
     # --- GAE
     advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)

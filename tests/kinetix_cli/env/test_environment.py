@@ -10,10 +10,9 @@ import numpy as np
 import pytest
 
 from engine import SIZES
-from kinetix_cli.bench.env import random_levels
 from kinetix_cli.env.actions import action_space, binding_values, engine_actions, sample_action
-from kinetix_cli.env.environment import EnvParams, KinetixEnv, step_batch
-from kinetix_cli.env.level import Bindings, draw_indices, draw_level, draw_levels, index_level, stack_levels
+from kinetix_cli.env.environment import EnvParams, KinetixEnv
+from kinetix_cli.env.level import Bindings, draw_level, index_level, stack_levels
 from kinetix_cli.levels.parse import parse_level
 
 ENV = KinetixEnv(SIZES["s"])
@@ -118,38 +117,6 @@ def test_auto_reset_restarts_from_the_given_level_and_keeps_the_final_observatio
     final_obs, *_ = jax.jit(ENV.step_env)(before, jnp.zeros(6, jnp.int32), EnvParams())
     np.testing.assert_array_equal(info["final_observation"], final_obs)  # and the one before the reset
     assert not np.array_equal(info["final_observation"], obs)
-
-
-def test_a_batch_step_restarts_only_the_ended_episodes_and_equals_the_vmapped_step():
-    """`step_batch` returns `env.step`'s outputs over the batch, bit for bit (observations, states, rewards, flags,
-    final observations), both on steps where more episodes end than its small reset batch holds (every row is
-    reset) and on steps where fewer do (just those rows)."""
-    env = KinetixEnv(SIZES["s"], observation="symbolic-entity", attention=False)  # as the relational MLP trains
-    envs, rows, steps, params = 16, 2, 6, EnvParams(max_steps=8)
-    pool = random_levels(SIZES["s"], 4, 0)
-    _, states = jax.vmap(env.reset_to_level)(draw_levels(pool, jax.random.key(1), envs))
-    slot = jnp.arange(envs)
-    # truncated at step 1: slots 0-5 (more than `rows`); at step 2: slot 6; at step 3: slot 7
-    states = states.replace(steps=jnp.select([slot < 6, slot == 6, slot == 7], [7, 6, 5], 0).astype(jnp.int32))
-
-    def rollout(batched: bool):
-        def body(states, key):
-            k_act, k_draw = jax.random.split(key)
-            actions = jax.vmap(lambda k: sample_action(env.action, k))(jax.random.split(k_act, envs))
-            index = draw_indices(pool, k_draw, envs)
-            if batched:
-                out = step_batch(env, states, actions, params, pool, index, rows)
-            else:
-                out = jax.vmap(env.step, in_axes=(0, 0, None, 0))(states, actions, params, index_level(pool, index))
-            return out[1], out
-
-        return jax.lax.scan(body, states, jax.random.split(jax.random.key(2), steps))[1]
-
-    batched, plain = jax.jit(rollout, static_argnums=0)(True), jax.jit(rollout, static_argnums=0)(False)
-    ended = np.asarray(plain[3] | plain[4]).sum(axis=1)
-    assert ended.max() > rows and ((ended > 0) & (ended <= rows)).any(), ended
-    for got, want in zip(jax.tree.leaves(batched), jax.tree.leaves(plain), strict=True):
-        np.testing.assert_array_equal(got, want)
 
 
 def test_truncation_is_reported_apart_from_termination(step_fn):

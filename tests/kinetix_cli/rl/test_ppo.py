@@ -15,7 +15,7 @@ from engine import SIZES
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.config import ConfigError, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
-from kinetix_cli.env.level import draw_indices, draw_levels, index_level
+from kinetix_cli.env.level import draw_levels, index_level
 from kinetix_cli.env.mirror import MirrorPairEnv
 from kinetix_cli.rl.distributions import kl_divergence, mirrored
 from kinetix_cli.rl.networks import FirstViewNetwork, make_network
@@ -236,8 +236,7 @@ def test_one_pass_per_step_gives_the_two_pass_rollouts_transitions():
 
         return jax.lax.scan(body, runner, None, length=steps)[1]
 
-    indices = lambda key: draw_indices(pool, key, envs)  # noqa: E731  (the draws of `restart`, as indices)
-    one = jax.jit(lambda r: collect(r, env_params, pool, indices, env=env, network=network, num_steps=steps)[1])(runner)
+    one = jax.jit(lambda r: collect(r, env_params, restart, env=env, network=network, num_steps=steps)[1])(runner)
     action, value, next_value, truncated = jax.jit(two_passes)(runner)
     counts = np.asarray(truncated).sum(axis=1)
     assert counts.max() > truncated_rows(envs) >= counts[1:].max() > 0, counts

@@ -152,9 +152,8 @@ def plr_update(
     obs, env_state = jax.vmap(env.reset_to_level)(played)
     runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
     # --- collect: every environment stays on its level
-    own = lambda _: jnp.arange(n)  # noqa: E731
     runner, transitions, finished_return = collect(
-        runner, env_params, played, own, env=env, network=network, num_steps=settings.num_steps
+        runner, env_params, lambda _: played, env=env, network=network, num_steps=settings.num_steps
     )
     # --- GAE and the levels' scores
     advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
