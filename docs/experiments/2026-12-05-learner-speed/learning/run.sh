@@ -1,6 +1,7 @@
 #!/bin/bash
 # Part 4's learning table (see README.md here): before (11c143b on PYTHONPATH, 768 updates) and after (HEAD, the
 # same seed's training minutes as a budget), seeds 0-2 alternating, then every checkpoint on the validation suite.
+# (The runs of 2026-12-05 ran "after" from the working tree, which then held 8933519's source: see README.md, Results.)
 # Runs in /tmp/learn; the metrics and validation records are copied next to this script.
 set -euo pipefail
 cd /work/main
