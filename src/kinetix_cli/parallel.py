@@ -24,7 +24,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import jax
 import numpy as np
@@ -35,6 +35,10 @@ from kinetix_cli.errors import UserError
 
 BATCH = "batch"
 """The mesh axis that splits batches (environments, levels, attempts) across devices."""
+SPLIT = PartitionSpec(BATCH)
+"""`per_device`: an argument or result split along its leading axis over the devices."""
+COPY = PartitionSpec()
+"""`per_device`: an argument with a full copy on every device."""
 
 PEER_TIMEOUT = 10.0
 """A process whose heartbeat has not changed for this long is taken as dead, and the others stop [s]."""
@@ -296,6 +300,19 @@ def batch_sharded(tree, axis: int = 0):
 def replicated(tree):
     """Inside jitted code under `using(mesh)`: a full copy of every leaf of `tree` on each device."""
     return _constrain(tree, PartitionSpec())
+
+
+def per_device(fn: Callable, in_specs: tuple, out_specs=SPLIT) -> Callable:
+    """Inside jitted code under `using(mesh)`: `fn` run by each device on its own part of the batch
+    (`jax.shard_map`; each argument `SPLIT` or `COPY`), its results joined along the batch. For work whose size
+    or branch depends on the data (a `lax.cond`, a count of rows), so that it holds no collective: XLA's CPU
+    runtime orders collectives by when they start, and a branch whose collectives start late can meet another
+    collective on its way and stall both devices (seen as an abort after 40 s;
+    `tests/kinetix_cli/rl/test_collectives.py`). Without a mesh (or on one device): `fn` itself."""
+    mesh = jax.sharding.get_abstract_mesh()
+    if mesh.empty or mesh.size == 1:
+        return fn
+    return jax.shard_map(fn, in_specs=in_specs, out_specs=out_specs)
 
 
 def _constrain(tree, spec: PartitionSpec):

@@ -249,7 +249,6 @@ def forward_phase(network: nn.Module) -> Callable:
 
     def run(params, transitions: Transition, key, checksum):
         steps = transitions.done.shape[0]
-        rows = truncated_rows(transitions.done.shape[1])
 
         def body(carry, t):
             key, checksum = carry
@@ -257,7 +256,7 @@ def forward_phase(network: nn.Module) -> Callable:
             at = lambda i: jax.tree.map(lambda x: x[(t + i) % steps], transitions)  # noqa: E731
             dist, value = network.apply(params, at(0).obs)
             truncated = (at(0).done > 0) & (at(0).terminated == 0)
-            final = final_values(network, params, at(1).obs, truncated, rows)
+            final = final_values(network, params, at(1).obs, truncated)
             total = dist.log_prob(dist.sample(k_act)).sum() + value.sum() + final.sum()
             return (key, checksum + total), None
 

@@ -36,7 +36,7 @@ from kinetix_cli.config import PPOSettings
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.generator.fresh import FreshLevels
-from kinetix_cli.parallel import batch_sharded, replicated
+from kinetix_cli.parallel import COPY, SPLIT, batch_sharded, per_device, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, empty_buffer
 from kinetix_cli.rl.distributions import kl_divergence, mirrored
 
@@ -151,14 +151,18 @@ def ppo_loss(apply_fn, params, batch: Transition, advantages, targets, settings:
 
 def first_reset(runner: Runner, env: KinetixEnv, pool: Level, key: jax.Array) -> Runner:
     """With a fresh level source `init_runner` starts every environment on an empty arena: at update 0, and only
-    then, they all reset to levels drawn from the update's `pool` (later updates skip the reset)."""
+    then, they all reset to levels drawn from the update's `pool` (later updates keep their environments).
 
-    def reset(runner: Runner) -> Runner:
-        count = runner.episode_return.shape[0]
-        obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(pool, key, count)))
-        return runner.replace(obs=obs, env_state=env_state)
-
-    return jax.lax.cond(runner.update == 0, reset, lambda r: r, runner)
+    Every update computes the reset (about one environment step per environment, against `num_steps` of them
+    in the rollout) and keeps it at update 0 only: a `lax.cond` here would hold the gathers of the drawn levels,
+    which on a CPU split into devices can stall the run (`parallel.per_device`)."""
+    count = runner.episode_return.shape[0]
+    obs, env_state = jax.vmap(env.reset_to_level)(batch_sharded(draw_levels(pool, key, count)))
+    first = runner.update == 0
+    keep = lambda new, old: jnp.where(first, new, old)  # noqa: E731
+    return runner.replace(
+        obs=jax.tree.map(keep, obs, runner.obs), env_state=jax.tree.map(keep, env_state, runner.env_state)
+    )
 
 
 def update_keys(runner: Runner) -> tuple[Runner, jax.Array, jax.Array, jax.Array]:
@@ -219,7 +223,6 @@ def collect(
     truncated episode bootstraps from an observation no pass sees (its final one, before the reset): those
     values come from a pass on just the truncated rows (`final_values`)."""
     step = jax.vmap(env.step, in_axes=(0, 0, None, 0))
-    rows = truncated_rows(jax.tree.leaves(runner.obs)[0].shape[0])
 
     def env_step(carry, _):
         runner, dist, value = carry
@@ -232,7 +235,7 @@ def collect(
             runner.env_state, action, env_params, batch_sharded(restart(k_reset))
         )
         next_dist, next_obs_value = network.apply(runner.params, obs)
-        final_value = final_values(network, runner.params, info["final_observation"], truncated, rows)
+        final_value = final_values(network, runner.params, info["final_observation"], truncated)
         done = terminated | truncated
         transition = Transition(
             obs=runner.obs,
@@ -258,32 +261,38 @@ def collect(
 
 
 TRUNCATED_SHARE = 16
-"""`final_values` evaluates the truncated rows of a step as one pass on 1/16 of the environments (at least one
-row) when they fit, else on all of them."""
+"""`final_values` evaluates the truncated rows of a step as one pass on 1/16 of each device's environments (at
+least one row) when they fit, else on all of them."""
 
 
 def truncated_rows(num_envs: int) -> int:
-    """Rows of the small pass of `final_values` for `num_envs` environments."""
+    """Rows of the small pass of `final_values` for `num_envs` environments (on one device)."""
     return max(1, num_envs // TRUNCATED_SHARE)
 
 
-def final_values(network: nn.Module, params, final_obs, truncated: jax.Array, rows: int) -> jax.Array:
+def final_values(network: nn.Module, params, final_obs, truncated: jax.Array) -> jax.Array:
     """(envs,) the value of each truncated environment's final observation (other rows: any finite value).
 
     Truncations are few per step once episodes fall out of step (an episode is truncated only at the step cap),
-    so when at most `rows` environments were truncated, one pass on those rows (gathered; padding repeats the
-    first) gives them; when more were, as in the first episodes of a run, whose environments start together,
-    one pass on every row does."""
+    so when at most `truncated_rows` environments of a device were truncated, one pass on those rows (gathered;
+    padding repeats the first) gives them; when more were, as in the first episodes of a run, whose environments
+    start together, one pass on every row of the device does. Each device decides for its own environments
+    (`parallel.per_device`), so the branch holds no collective."""
 
-    def few():
-        index = jnp.nonzero(truncated, size=rows, fill_value=0)[0]
-        _, value = network.apply(params, jax.tree.map(lambda x: x[index], final_obs))
-        return jnp.zeros(truncated.shape, value.dtype).at[index].set(value)
+    def on_device(params, final_obs, truncated):
+        rows = truncated_rows(truncated.shape[0])
 
-    def every():
-        return network.apply(params, final_obs)[1]
+        def few():
+            index = jnp.nonzero(truncated, size=rows, fill_value=0)[0]
+            _, value = network.apply(params, jax.tree.map(lambda x: x[index], final_obs))
+            return jnp.zeros(truncated.shape, value.dtype).at[index].set(value)
 
-    return jax.lax.cond(jnp.sum(truncated) <= rows, few, every)
+        def every():
+            return network.apply(params, final_obs)[1]
+
+        return jax.lax.cond(jnp.sum(truncated) <= rows, few, every)
+
+    return per_device(on_device, in_specs=(COPY, SPLIT, SPLIT))(params, final_obs, truncated)
 
 
 LOSS_METRICS = ("loss", "policy_loss", "value_loss", "entropy", "approx_kl", "mirror_loss")  # what `learn` measures

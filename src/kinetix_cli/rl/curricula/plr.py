@@ -110,7 +110,32 @@ Mutation = Callable[[jax.Array, Level, KinetixEnv, CurriculumSettings], Level]
 """mutation(key, levels, env, curriculum) -> the batch of levels, each edited (ACCEL's `accel.mutate_levels`)."""
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum", "mutation"))
+ROUNDS = ("replay", "mutate", "new")
+"""What an update of PLR or ACCEL does: replay buffer levels and train on them, or score candidates without
+training, mutations of buffer levels (ACCEL) or new levels from the source."""
+
+
+def round_keys(runner: Runner) -> tuple[jax.Array, ...]:
+    """The update's keys (the runner's next key, then those of its round, new levels, replay slots and mutations),
+    shared by `plr_round` and `plr_update`."""
+    return tuple(jax.random.split(runner.key, 5))
+
+
+@functools.partial(jax.jit, static_argnames=("curriculum", "accel"))
+def plr_round(runner: Runner, *, curriculum: CurriculumSettings, accel: bool) -> jax.Array:
+    """() int32 index in `ROUNDS` of the next update's round. PLR replays with probability `replay_prob` once the
+    buffer is `min_fill` full; ACCEL, which follows each replay with a mutation round, picks replay, mutation and
+    new levels with probabilities p, p and 1 - p over 1 + p. Otherwise new levels."""
+    _, k_round, *_ = round_keys(runner)
+    buffer = runner.buffer
+    ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
+    u, p = jax.random.uniform(k_round), curriculum.replay_prob
+    replay = ready & (u < (p / (1.0 + p) if accel else p))
+    mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
+    return jnp.where(replay, 0, jnp.where(mutate, 1, 2)).astype(jnp.int32)
+
+
+@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum", "mutation", "kind"))
 def plr_update(
     runner: Runner,
     env_params: EnvParams,
@@ -122,33 +147,30 @@ def plr_update(
     fresh: FreshLevels | None,
     curriculum: CurriculumSettings,
     mutation: Mutation | None = None,
+    kind: str = "replay",
 ) -> tuple[Runner, dict]:
-    """One update of robust PLR or, with a `mutation`, ACCEL: every environment is reset to a level of its own
-    and replays it whenever an episode ends. A replay update (once the buffer is `min_fill` full) plays buffer
-    levels sampled by `replay_probabilities`, trains on them as `rl.ppo.ppo_update` does and rescores them; the
-    other updates play candidates without training (new levels from the source, `fresh` or draws from `levels`;
-    with a `mutation` also mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
-    these. PLR replays with probability `replay_prob`; ACCEL, which follows each replay with a mutation round,
-    picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p.
-    Metrics: those of `ppo_update` (losses 0 when nothing was trained: `logged` drops them), `replay` and
-    `mutate` (1 or 0)."""
+    """One update of robust PLR or, with a `mutation`, ACCEL, of the round `kind` (`ROUNDS`, as `plr_round`
+    chose it): every environment is reset to a level of its own and replays it whenever an episode ends. A replay
+    round plays buffer levels sampled by `replay_probabilities`, trains on them as `rl.ppo.ppo_update` does and
+    rescores them; the other rounds play candidates without training (new levels from the source, `fresh` or
+    draws from `levels`; mutations of buffer levels), and the buffer keeps the best-scoring of its levels and
+    these.
+
+    The round is chosen on the host, one compiled program per round: a `lax.cond` between them would hold the
+    gradient's all-reduce and the levels' gathers, which can stall a CPU split into devices
+    (`parallel.per_device`). Metrics: those of `ppo_update` (losses 0 when nothing was trained: `logged` drops
+    them), `replay` and `mutate` (1 or 0)."""
     n = settings.num_envs
     buffer = runner.buffer
-    key, k_mode, k_new, k_replay, k_mutate = jax.random.split(runner.key, 5)
-    ready = buffer.size >= jnp.maximum(1, round(curriculum.min_fill * buffer.score.shape[0]))
-    u, p = jax.random.uniform(k_mode), curriculum.replay_prob
-    accel = mutation is not None
-    replay = ready & (u < (p / (1.0 + p) if accel else p))
-    mutate = ready & ~replay & (u < 2.0 * p / (1.0 + p)) if accel else jnp.zeros((), bool)
+    key, _, k_new, k_replay, k_mutate = round_keys(runner)
     slots = sample_replay(buffer, k_replay, n, runner.update, curriculum)
-    buffered = index_level(buffer.levels, slots)
-    new = lambda: fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)  # noqa: E731
-    candidates = jax.lax.cond(replay, lambda: buffered, new)  # a replay round samples no new levels
-    if accel:
-        mutate_all = lambda: mutation(k_mutate, buffered, env, curriculum)  # noqa: E731
-        mutated = jax.lax.cond(mutate, mutate_all, lambda: buffered)  # the edits only run in mutation rounds
-        candidates = jax.tree.map(lambda m, c: jnp.where(mutate, m, c), mutated, candidates)
-    played = batch_sharded(jax.tree.map(lambda b, c: jnp.where(replay, b, c), buffered, candidates))
+    if kind == "replay":
+        played = index_level(buffer.levels, slots)
+    elif kind == "mutate":
+        played = mutation(k_mutate, index_level(buffer.levels, slots), env, curriculum)
+    else:
+        played = fresh(k_new, n) if fresh is not None else draw_levels(levels, k_new, n)
+    played = batch_sharded(played)
     obs, env_state = jax.vmap(env.reset_to_level)(played)
     runner = runner.replace(key=key, obs=obs, env_state=env_state, episode_return=jnp.zeros(n, jnp.float32))
     # --- collect: every environment stays on its level
@@ -157,22 +179,20 @@ def plr_update(
     )
     # --- GAE and the levels' scores
     advantages, targets = gae(transitions, settings.gamma, settings.gae_lambda)
-    best_before = jnp.where(replay, buffer.max_return[slots], -jnp.inf)
+    best_before = buffer.max_return[slots] if kind == "replay" else jnp.full(n, -jnp.inf)
     score, solve_rate, best = level_scores(
         transitions.value, advantages, finished_return, transitions.done, transitions.solved, best_before, curriculum
     )
     # --- train on replayed levels only
     train = lambda r: learn(r, transitions, advantages, targets, network=network, settings=settings)  # noqa: E731
-    skipped = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), jax.eval_shape(train, runner)[1])
-    runner, losses = jax.lax.cond(replay, train, lambda r: (r, skipped), runner)
-    buffer = jax.lax.cond(
-        replay,
-        lambda b: rescore(b, slots, score, solve_rate, best, runner.update),
-        lambda b: insert(b, candidates, score, solve_rate, best, runner.update),
-        buffer,
-    )
+    if kind == "replay":
+        runner, losses = train(runner)
+        buffer = rescore(buffer, slots, score, solve_rate, best, runner.update)
+    else:
+        losses = jax.tree.map(lambda x: jnp.zeros(x.shape, x.dtype), jax.eval_shape(train, runner)[1])
+        buffer = insert(buffer, played, score, solve_rate, best, runner.update)
     runner = runner.replace(buffer=buffer, update=runner.update + 1).placed()
-    modes = {"replay": replay.astype(jnp.float32), "mutate": mutate.astype(jnp.float32)}
+    modes = {"replay": jnp.float32(kind == "replay"), "mutate": jnp.float32(kind == "mutate")}
     return runner, rollout_metrics(transitions, finished_return, losses) | modes
 
 
@@ -189,8 +209,12 @@ class PLR(Curriculum):
         return self.curriculum.buffer_size
 
     def update(self, runner, env_params, pool):
+        accel = self.mutation is not None
+        kind = ROUNDS[int(plr_round(runner, curriculum=self.curriculum, accel=accel))]  # one sync per update
         parts = {"env": self.env, "network": self.network, "settings": self.settings, "fresh": self.fresh}
-        return plr_update(runner, env_params, pool, **parts, curriculum=self.curriculum, mutation=self.mutation)
+        return plr_update(
+            runner, env_params, pool, **parts, curriculum=self.curriculum, mutation=self.mutation, kind=kind
+        )
 
     def logged(self, metrics: dict) -> dict:
         """A round that trained nothing (new levels or mutations) carries no losses, entropy or KL, so their
