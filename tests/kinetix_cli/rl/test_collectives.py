@@ -6,11 +6,11 @@ general recipe's first update did so in 3 of 4 tries on 2 devices (2026-12-05): 
 gather (a branch), the other at a gather outside it. The first reset is now a select, `ppo.final_values` decides
 per device (`parallel.per_device`), and PLR and ACCEL choose their round on the host (`plr.plr_round`).
 
-Each case trains the tiny run for 2 updates (a fresh level source, so the first reset is compiled in; SFL scores
-its levels at update 0) on 2 forced host devices and reads every optimised program it ran from XLA's dump. The
-check itself is shown to find such a branch in a real 2-device program. `make test` checks SFL (the shipped
-recipe's curriculum: its update, scoring and the rollout's truncated values); `make test-all` also DR, PLR and
-ACCEL."""
+Each case trains the tiny run on a fresh level source (so the first reset is compiled in; SFL scores its levels at
+update 0) for 2 updates, PLR for 6 and ACCEL for 18 (until each of their rounds has come), on 2 forced host devices,
+and reads every optimised program it ran from XLA's dump. The check itself is shown to find such a branch in a real
+2-device program. `make test` checks SFL (the shipped recipe's curriculum: its update, scoring and the rollout's
+truncated values); `make test-all` also DR, PLR and ACCEL."""
 
 from __future__ import annotations
 

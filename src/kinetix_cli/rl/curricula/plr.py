@@ -147,7 +147,7 @@ def plr_update(
     fresh: FreshLevels | None,
     curriculum: CurriculumSettings,
     mutation: Mutation | None = None,
-    kind: str = "replay",
+    kind: str,
 ) -> tuple[Runner, dict]:
     """One update of robust PLR or, with a `mutation`, ACCEL, of the round `kind` (`ROUNDS`, as `plr_round`
     chose it): every environment is reset to a level of its own and replays it whenever an episode ends. A replay

@@ -98,6 +98,25 @@ def lines(run_dir):
     return [{k: v for k, v in json.loads(x).items() if k != "sps"} for x in (run_dir / "metrics.jsonl").open()]
 
 
+def test_the_round_waits_for_min_fill_then_follows_the_replay_probability(tiny_pool):
+    """`plr_round`: new levels until the buffer is `min_fill` full; then PLR replays with probability p and ACCEL
+    picks replay, mutation and new levels with probabilities p, p and 1 - p over 1 + p (here 1/6, 1/6, 2/3)."""
+    keys = jax.random.split(jax.random.key(0), 3000)
+
+    def shares(buffer, accel, p):
+        curriculum = CurriculumSettings(name="accel" if accel else "plr", min_fill=0.5, replay_prob=p)
+        runner = plr.Runner(None, None, None, None, jnp.zeros(1), keys[0], jnp.int32(0), buffer)
+        pick = lambda key: plr.plr_round(runner.replace(key=key), curriculum=curriculum, accel=accel)  # noqa: E731
+        rounds = np.asarray(jax.vmap(pick)(keys))
+        return [float((rounds == i).mean()) for i in range(len(plr.ROUNDS))]  # replay, mutate, new
+
+    filling = buffer_of(tiny_pool, jnp.array([0.1, 0.4]), jnp.array([0, 0]))  # 2 of 6 slots: under half full
+    ready = buffer_of(tiny_pool, jnp.array([0.1, 0.4, 0.2]), jnp.array([0, 0, 0]))
+    assert shares(filling, True, 0.5) == [0.0, 0.0, 1.0]
+    np.testing.assert_allclose(shares(ready, False, 0.5), [0.5, 0.0, 0.5], atol=0.03)  # [share]: 3 sd of 3000 draws
+    np.testing.assert_allclose(shares(ready, True, 0.2), [1 / 6, 1 / 6, 2 / 3], atol=0.03)
+
+
 class Crash(Exception):
     pass
 
