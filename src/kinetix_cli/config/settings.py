@@ -380,7 +380,8 @@ class CurriculumSettings:
             best-scoring levels stay in the buffer of `buffer_size`) or 'accel' (PLR whose candidates are also
             mutations of buffer levels: `edits` random edits each, `generator.mutate`).
         score_levels: SFL: levels scored per refresh (reference 12,288 = 3 x 4,096).
-        score_batch: SFL: levels played at once while scoring (bounds memory; divides `score_levels`).
+        score_batch: SFL: levels drawn from one key while scoring (bounds the generator's memory; divides
+            `score_levels`); all `score_levels` x `score_attempts` copies are then played at once.
         score_steps: SFL: environment steps each copy of a scored level is played for [steps] (reference 512).
         score_attempts: SFL: copies of each scored level played side by side (reference 1: its 512 steps hold
             two or more episodes of at most 256 steps); with `score_steps` equal to `env.max_steps`, at least this

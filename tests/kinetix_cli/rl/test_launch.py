@@ -17,6 +17,6 @@ def test_every_batch_a_run_splits_is_named_by_its_setting():
     cloning = dataclasses.replace(sfl.clone, levels="solved-set", updates=1, batch=12)
     assert split_sizes(sfl.ppo, cloning, sfl.curriculum) == {
         "ppo.num_envs": 8,
-        "curriculum.score_batch * curriculum.score_attempts": 4 * 3,
+        "curriculum.score_levels": 8,
         "clone.batch": 12,
     }

@@ -34,7 +34,7 @@ def episode_counts(
     params,
     env_params: EnvParams,
     levels: Level,
-    key: jax.Array,
+    keys: jax.Array,
     *,
     env: KinetixEnv,
     network: nn.Module,
@@ -44,13 +44,13 @@ def episode_counts(
     """Solved and ended episodes, each (batch,) float32, of the sampling policy on each of a batch of levels:
     `attempts` copies of each level played side by side for `steps` environment steps by the episode runner
     (`env.episode.run_episode` with `restart`: every ended episode restarts on the same level), all copies counted
-    together."""
+    together. `keys` holds one key per copy, (batch x attempts,), a level's copies adjacent."""
     count = jax.tree.leaves(levels)[0].shape[0]
     levels = jax.tree.map(lambda x: jnp.repeat(x, attempts, axis=0), levels)  # copies of a level are adjacent
     play = functools.partial(
         run_episode, env, env_params, policy=sampling_policy(network, params), horizon=steps, restart=True
     )
-    outcome = jax.vmap(lambda level, k: play(level, key=k))(levels, jax.random.split(key, count * attempts))
+    outcome = jax.vmap(lambda level, k: play(level, key=k))(levels, keys)
     counted = lambda x: x.astype(jnp.float32).reshape(count, attempts).sum(1)  # noqa: E731
     return counted(outcome.solves), counted(outcome.episodes)
 
@@ -69,30 +69,35 @@ def refresh_buffer(
     buffer: LevelBuffer,
     update: jax.Array,
 ) -> LevelBuffer:
-    """Score `curriculum.score_levels` candidates (fresh levels, or draws from `pool`) in batches of
-    `score_batch` and return the `buffer_size` most learnable as the new buffer (its scoring rounds counted on
-    from the old `buffer`'s; `update` stamps the levels' `last_seen`)."""
-    batch = curriculum.score_batch
+    """Score `curriculum.score_levels` candidates (fresh levels, or draws from `pool`) and return the
+    `buffer_size` most learnable as the new buffer (its scoring rounds counted on from the old `buffer`'s;
+    `update` stamps the levels' `last_seen`).
 
-    def score_batch(key):
+    The candidates are drawn `score_batch` to a key, one key after another (which bounds the generator's memory),
+    and then played all at once, every copy of every candidate in one batched episode run: `score_steps` steps in
+    sequence per refresh, not per batch, which a device wide enough to hold them all (a GPU) needs. The levels and
+    keys are those that scoring each batch on its own drew."""
+    batch, attempts = curriculum.score_batch, curriculum.score_attempts
+
+    def draw(key):  # one key's candidates and the keys of their copies' episodes
         k_levels, k_play = jax.random.split(key)
         levels = fresh(k_levels, batch) if fresh is not None else draw_levels(pool, k_levels, batch)
-        levels = batch_sharded(levels)  # under a mesh, each device scores its share of the batch
-        solved, ended = episode_counts(
-            params,
-            env_params,
-            levels,
-            k_play,
-            env=env,
-            network=network,
-            steps=curriculum.score_steps,
-            attempts=curriculum.score_attempts,
-        )
-        return levels, solved / jnp.maximum(ended, 1.0)  # p, 0 when no episode ended
+        return levels, jax.random.split(k_play, batch * attempts)
 
-    keys = jax.random.split(key, curriculum.score_levels // batch)
-    levels, rates = jax.lax.map(score_batch, keys)
-    levels, rates = jax.tree.map(lambda x: x.reshape((-1, *x.shape[2:])), (levels, rates))
+    levels, keys = jax.lax.map(draw, jax.random.split(key, curriculum.score_levels // batch))
+    levels, keys = jax.tree.map(lambda x: x.reshape((-1, *x.shape[2:])), (levels, keys))
+    levels = batch_sharded(levels)  # under a mesh, each device scores its share of the candidates
+    solved, ended = episode_counts(
+        params,
+        env_params,
+        levels,
+        batch_sharded(keys),
+        env=env,
+        network=network,
+        steps=curriculum.score_steps,
+        attempts=attempts,
+    )
+    rates = solved / jnp.maximum(ended, 1.0)  # p, 0 when no episode ended
     seen = jnp.full(rates.shape, update, jnp.int32)
     rounds = buffer.rounds + 1
     scores, best = rates * (1.0 - rates), jnp.zeros_like(rates)
@@ -136,8 +141,7 @@ class SFL(Curriculum):
 
     @classmethod
     def split_sizes(cls, curriculum) -> dict[str, int]:
-        scored = curriculum.score_batch * curriculum.score_attempts
-        return {"curriculum.score_batch * curriculum.score_attempts": scored}
+        return {"curriculum.score_levels": curriculum.score_levels}
 
     def before_update(self, runner, env_params, pool, key, update):
         if update % self.curriculum.refresh_every:

@@ -3,7 +3,6 @@ and a resumed SFL run ends bit-identical to an uninterrupted one."""
 
 from __future__ import annotations
 
-import functools
 import json
 import shutil
 
@@ -13,11 +12,11 @@ import pytest
 
 from helpers.cli import kinetix
 from helpers.pages import read_report
-from helpers.runs import SFL_RUN_GROUP, sfl_config, tiny_config
+from helpers.runs import SFL, SFL_RUN_GROUP, sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
-from kinetix_cli.rl.curricula.sfl import episode_counts
+from kinetix_cli.rl.curricula.sfl import episode_counts, refresh_buffer
 from kinetix_cli.rl.networks import make_network
-from kinetix_cli.rl.pool import level_pool
+from kinetix_cli.rl.pool import fresh_source, level_pool
 from kinetix_cli.rl.ppo import init_runner
 from kinetix_cli.rl.train import train
 
@@ -72,17 +71,43 @@ def test_scoring_counts_the_episodes_of_every_copy_of_a_level(tiny_pool):
     env, env_params = make_env(config.env)
     network = make_network(config.model, config.env)
     runner = init_runner(env, network, config.ppo, tiny_pool, jax.random.key(0))
-    count = functools.partial(
-        jax.jit(episode_counts, static_argnames=("env", "network", "steps", "attempts")),
-        runner.params,
-        env_params,
-        tiny_pool,
-        jax.random.key(1),
-        env=env,
-        network=network,
-        steps=8,
-    )
-    solved, ended = map(np.asarray, count(attempts=3))
+    count = jax.jit(episode_counts, static_argnames=("env", "network", "steps", "attempts"))
+    keys = jax.random.split(jax.random.key(1), 2 * 3)
+    solved, ended = count(runner.params, env_params, tiny_pool, keys, env=env, network=network, steps=8, attempts=3)
+    solved, ended = np.asarray(solved), np.asarray(ended)
     assert solved.shape == ended.shape == (2,)  # one count per level, the 3 copies summed
     assert (ended >= 2 * 3).all() and (ended <= 8 * 3).all()  # one copy alone ends 2 to 8 episodes
     assert (solved >= 0).all() and (solved <= ended).all()
+
+
+def test_a_refresh_plays_all_its_batches_at_once_on_the_levels_and_keys_each_batch_draws():
+    # 2 batches of 4 fresh candidates, 2 copies each, 64 steps: enough for some of them to be solved
+    config = tiny_config(
+        *SFL, "levels.source=fresh", "levels.files=[]", "curriculum.score_steps=64", "curriculum.buffer_size=8"
+    )
+    settings, fresh = config.curriculum, fresh_source(config)
+    env, env_params = make_env(config.env)
+    network = make_network(config.model, config.env)
+    runner = init_runner(env, network, config.ppo, None, jax.random.key(0), fresh=fresh, buffer_size=8)
+    parts = {"env": env, "network": network, "fresh": fresh, "curriculum": settings}
+    key = jax.random.key(3)
+    buffer = refresh_buffer(runner.params, env_params, None, key, **parts, buffer=runner.buffer, update=0)
+
+    count = jax.jit(episode_counts, static_argnames=("env", "network", "steps", "attempts"))
+    expected = {}
+    for k in jax.random.split(key, 2):  # each batch alone, as scoring ran before it was one call
+        k_levels, k_play = jax.random.split(k)
+        levels = jax.jit(fresh, static_argnums=1)(k_levels, 4)
+        keys = jax.random.split(k_play, 4 * 2)
+        kw = {"env": env, "network": network, "steps": settings.score_steps, "attempts": 2}
+        solved, ended = count(runner.params, env_params, levels, keys, **kw)
+        for i, rate in enumerate(np.asarray(solved / np.maximum(ended, 1.0))):
+            expected[level_bytes(levels, i)] = rate
+    assert len(expected) == 8 and len(set(expected.values())) > 1  # 8 distinct levels, rates that tell them apart
+    got = {level_bytes(buffer.levels, i): rate for i, rate in enumerate(np.asarray(buffer.solve_rate))}
+    assert got == expected
+
+
+def level_bytes(levels, i: int) -> bytes:
+    """Level `i` of a batch as bytes: equal for equal levels."""
+    return b"".join(np.asarray(leaf[i]).tobytes() for leaf in jax.tree.leaves(levels))
