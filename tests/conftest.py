@@ -16,7 +16,7 @@ from filelock import FileLock
 from helpers.levelsets import CHUNK
 from helpers.processes import FAST_CODEGEN, FAST_COMPILE
 from helpers.runs import sfl_config, tiny_config
-from kinetix_cli import compile_cache, cpu
+from kinetix_cli import compile_cache, cpu, trace_cache
 from kinetix_cli.generator.filters import generate_chunk, make_config
 from kinetix_cli.rl.pool import level_pool
 from kinetix_cli.rl.train import train
@@ -76,6 +76,7 @@ def pytest_configure(config):
         os.environ[FAST_COMPILE] = "1"
         jax.config.update("jax_disable_most_optimizations", True)
     compile_cache.enable(COMPILE_CACHE)
+    trace_cache.enable(COMPILE_CACHE / trace_cache.FOLDER)  # as `kinetix` does
     # The fuzz tests (tests/hostile/test_fuzz.py) draw 300 examples per parser, derandomized; make test (-m "not
     # slow") draws 100 (~20 s less here).
     quick = config.getoption("markexpr", "") == "not slow"

@@ -9,7 +9,7 @@ import warnings
 import typer
 from rich.table import Table
 
-from kinetix_cli import compile_cache, cpu
+from kinetix_cli import compile_cache, cpu, trace_cache
 from kinetix_cli.cli import figures, generate, levels, studio, train
 from kinetix_cli.cli.agents import agents_app
 from kinetix_cli.cli.bench import bench_app
@@ -54,10 +54,13 @@ def main() -> None:
     signal prints one line and exits with 128 + the signal's number.
 
     Compiled programs are cached on disk (`kinetix_cli.compile_cache`: `~/.cache/kinetix/jax/<versions>`;
-    `KINETIX_COMPILE_CACHE=DIR` or `off`), so a command run again skips XLA's compile of what it ran before. The CPU
+    `KINETIX_COMPILE_CACHE=DIR` or `off`), so a command run again skips XLA's compile of what it ran before, and
+    the big programs' traces with them (`kinetix_cli.trace_cache`, in that folder's `traces`). The CPU
     is split into one JAX device per core (`kinetix_cli.cpu`: at most 4; `KINETIX_CPU_DEVICES=N`).
     """
-    compile_cache.enable(compile_cache.cache_folder())
+    folder = compile_cache.cache_folder()
+    compile_cache.enable(folder)
+    trace_cache.enable(None if folder is None else folder / trace_cache.FOLDER)
     warnings.showwarning = show_warning
     sys.unraisablehook = _quiet_closed_event_loops
     try:

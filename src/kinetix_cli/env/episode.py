@@ -24,6 +24,7 @@ from flax import struct
 from engine import State
 from kinetix_cli.env.environment import EnvParams, EnvState, KinetixEnv
 from kinetix_cli.env.level import Level, share_engine_params
+from kinetix_cli.trace_cache import cached_jit
 
 Policy = Callable[[jax.Array, object, jax.Array], jax.Array]
 """policy(key, observation, t) -> action, for one environment; t is the () int32 step index."""
@@ -133,7 +134,7 @@ def run_episode(
     return (outcome, trace) if record else outcome
 
 
-@functools.partial(jax.jit, static_argnums=(0, 4))
+@cached_jit(static_argnums=(0, 4))
 def _replay(env: KinetixEnv, params: EnvParams, levels: Level, actions: jax.Array, level_axes) -> Outcome:
     episode = functools.partial(run_episode, env, params, key=jax.random.key(0), horizon=actions.shape[1])
     return jax.vmap(lambda level, seq: episode(level, open_loop(seq)), in_axes=(level_axes, 0))(levels, actions)

@@ -28,6 +28,7 @@ from kinetix_cli.env.level import Level
 from kinetix_cli.errors import UserError
 from kinetix_cli.generator.sampler import SamplerConfig, default_config, is_valid, sample_level
 from kinetix_cli.parallel import batch_sharded, make_mesh, replicate, replicated, using
+from kinetix_cli.trace_cache import cached_jit
 
 FILTER_SETTINGS = EnvSettings(observation="symbolic-flat")
 """The environment the filter episodes run in (the size is the chunk's; the observation is never computed)."""
@@ -102,7 +103,7 @@ def make_config(size: str, chunk: int = 1024, filters: FilterConfig | None = Non
     return GenerateConfig(size, chunk, default_config(size), filters or FilterConfig())
 
 
-@functools.partial(jax.jit, static_argnums=(0, 1, 2, 3))
+@cached_jit(static_argnums=(0, 1, 2, 3))
 def sample_and_filter_chunks(
     static: Static, sampler: SamplerConfig, filters: FilterConfig, chunk: int, keys: jax.Array
 ) -> tuple[Level, jax.Array, jax.Array, jax.Array]:

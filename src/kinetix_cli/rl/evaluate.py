@@ -32,6 +32,7 @@ from kinetix_cli.levels.files import load_level
 from kinetix_cli.levels.suites import shown_path
 from kinetix_cli.parallel import make_mesh, pad_batch, replicate, shard_batch, using
 from kinetix_cli.rl.networks import MIRROR_MODES, make_network, mirror_policy, sampling_policy
+from kinetix_cli.trace_cache import cached_jit
 
 
 @dataclasses.dataclass
@@ -46,7 +47,7 @@ class LevelResult:
     mean_length: float
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "horizon", "level_axes", "mirror"))
+@cached_jit(static_argnames=("env", "network", "horizon", "level_axes", "mirror"))
 def play_policy(
     params,
     env_params: EnvParams,

@@ -22,7 +22,6 @@ touched blue or red, NaN) zero the bootstrap.
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable
 from typing import Any
 
@@ -39,6 +38,7 @@ from kinetix_cli.generator.fresh import FreshLevels
 from kinetix_cli.parallel import COPY, SPLIT, batch_sharded, per_device, replicated
 from kinetix_cli.rl.buffer import LevelBuffer, empty_buffer
 from kinetix_cli.rl.distributions import kl_divergence, mirrored
+from kinetix_cli.trace_cache import cached_jit
 
 
 @struct.dataclass
@@ -172,7 +172,7 @@ def update_keys(runner: Runner) -> tuple[Runner, jax.Array, jax.Array, jax.Array
     return runner.replace(key=key), k_source, k_buffer, k_first
 
 
-@functools.partial(jax.jit, static_argnums=(0, 1, 2), static_argnames=("fresh", "buffer_size"))
+@cached_jit(static_argnums=(0, 1, 2), static_argnames=("fresh", "buffer_size"))
 def init_runner(
     env: KinetixEnv,
     network: nn.Module,
@@ -361,7 +361,7 @@ def train_on(
     return runner, rollout_metrics(transitions, finished_return, losses)
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh"))
+@cached_jit(static_argnames=("env", "network", "settings", "fresh"))
 def ppo_update(
     runner: Runner,
     env_params: EnvParams,

@@ -28,6 +28,7 @@ from kinetix_cli.parallel import batch_sharded
 from kinetix_cli.rl.buffer import LevelBuffer, top_levels
 from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.ppo import LOSS_METRICS, Runner, collect, gae, learn, rollout_metrics
+from kinetix_cli.trace_cache import cached_jit
 
 
 def replay_probabilities(buffer: LevelBuffer, update: jax.Array, curriculum: CurriculumSettings) -> jax.Array:
@@ -135,7 +136,7 @@ def plr_round(runner: Runner, *, curriculum: CurriculumSettings, accel: bool) ->
     return jnp.where(replay, 0, jnp.where(mutate, 1, 2)).astype(jnp.int32)
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum", "mutation", "kind"))
+@cached_jit(static_argnames=("env", "network", "settings", "fresh", "curriculum", "mutation", "kind"))
 def plr_update(
     runner: Runner,
     env_params: EnvParams,

@@ -28,6 +28,7 @@ from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
 from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.networks import sampling_policy
 from kinetix_cli.rl.ppo import Runner, first_reset, train_on, update_keys
+from kinetix_cli.trace_cache import cached_jit
 
 
 def episode_counts(
@@ -55,7 +56,7 @@ def episode_counts(
     return counted(outcome.solves), counted(outcome.episodes)
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "fresh", "curriculum"))
+@cached_jit(static_argnames=("env", "network", "fresh", "curriculum"))
 def refresh_buffer(
     params,
     env_params: EnvParams,
@@ -105,7 +106,7 @@ def refresh_buffer(
     return replicated(buffer)  # one global buffer, a copy on every device
 
 
-@functools.partial(jax.jit, static_argnames=("env", "network", "settings", "fresh", "curriculum"))
+@cached_jit(static_argnames=("env", "network", "settings", "fresh", "curriculum"))
 def sfl_update(
     runner: Runner,
     env_params: EnvParams,
