@@ -18,7 +18,8 @@ traces it.
 Entries are Python pickles (the output's tree structure and the serialised program): like JAX's compiled programs
 beside them, they are trusted as the user's own files.
 
-Where: the `traces` folder inside the compile cache's folder, on or off with it (`KINETIX_COMPILE_CACHE=off`). Each
+Where: the `traces` folder inside the compile cache's folder, on or off with it (`KINETIX_COMPILE_CACHE=off`;
+`KINETIX_TRACE_CACHE=off` turns off the traces alone: the test suite does, see tests/conftest.py). Each
 entry is one file, written atomically with a format version; the folder is bounded (`MAX_BYTES`, least recently
 used first). An entry that cannot be read (damaged, another format, another key) is a miss: the program is traced
 again and the entry written anew, without a word.
@@ -43,6 +44,8 @@ FORMAT = "kinetix-trace/1"
 """Format of an entry; an entry of another format is a miss."""
 FOLDER = "traces"
 """The traces' folder inside the compile cache's (`kinetix_cli.compile_cache`)."""
+VARIABLE = "KINETIX_TRACE_CACHE"
+"""Environment variable: `off` keeps traces off while the compile cache is on."""
 SUFFIX = ".trace"
 MAX_BYTES = 2**30
 """The folder's size bound: beyond it, the least recently used entries are removed after a write."""
@@ -72,6 +75,14 @@ def enable(folder: Path | None) -> None:
     global _folder
     _folder = folder
     _memory.clear()
+
+
+def folder_in(compile_folder: Path | None) -> Path | None:
+    """The traces' folder inside the compile cache's `compile_folder`; None when that is off or `VARIABLE` says
+    `off`."""
+    if compile_folder is None or os.environ.get(VARIABLE, "").strip().lower() == "off":
+        return None
+    return compile_folder / FOLDER
 
 
 def folder() -> Path | None:

@@ -121,3 +121,10 @@ def test_a_training_update_read_back_computes_what_jax_jit_computes(traces, tiny
     ppo_update(runner, env_params, tiny_pool, **parts)
     trace_cache.enable(traces)
     equal(ppo_update(runner, env_params, tiny_pool, **parts), ppo_update.jitted(runner, env_params, tiny_pool, **parts))
+
+
+def test_the_traces_live_in_the_compile_cache_folder_unless_switched_off(monkeypatch, tmp_path):
+    monkeypatch.delenv(trace_cache.VARIABLE, raising=False)
+    assert trace_cache.folder_in(tmp_path) == tmp_path / "traces" and trace_cache.folder_in(None) is None
+    monkeypatch.setenv(trace_cache.VARIABLE, "off")
+    assert trace_cache.folder_in(tmp_path) is None

@@ -60,7 +60,7 @@ def main() -> None:
     """
     folder = compile_cache.cache_folder()
     compile_cache.enable(folder)
-    trace_cache.enable(None if folder is None else folder / trace_cache.FOLDER)
+    trace_cache.enable(trace_cache.folder_in(folder))
     warnings.showwarning = show_warning
     sys.unraisablehook = _quiet_closed_event_loops
     try:
