@@ -102,6 +102,23 @@ def source_hash() -> str:
     return digest.hexdigest()
 
 
+@functools.cache
+def process_key() -> str:
+    """The part of every key that is fixed for a process: the format, the source, the versions of Python and
+    `LIBRARIES`, the backend and its devices (computed once: a training run calls its update thousands of times)."""
+    import jax
+
+    devices = jax.devices()
+    parts = [
+        FORMAT,
+        source_hash(),
+        sys.version,
+        *(f"{name}={version(name)}" for name in LIBRARIES),
+        f"{devices[0].platform} {devices[0].device_kind} {len(devices)} {jax.process_count()}",
+    ]
+    return "\0".join(parts)
+
+
 def cached_jit(fun: Callable | None = None, *, static_argnums=(), static_argnames=()):
     """`jax.jit(fun, static_argnums=..., static_argnames=...)` whose trace is kept on disk when `enable`d; usable
     as a decorator with or without arguments. The returned function also has `jax.jit`'s `lower` and `trace`."""
@@ -163,15 +180,10 @@ class TracedProgram:
         import jax
 
         digest = hashlib.sha256()
-        devices = jax.devices()
         parts = [
-            FORMAT,
             self.name,
-            source_hash(),
+            process_key(),
             str(tree),
-            sys.version,
-            *(f"{name}={version(name)}" for name in LIBRARIES),
-            f"{devices[0].platform} {devices[0].device_kind} {len(devices)} {jax.process_count()}",
             repr(jax.sharding.get_abstract_mesh()),
             *(f"{name}={jax.config.values.get(name)}" for name in SETTINGS),
             *(f"{jax.typeof(leaf)} {leaf.sharding!r}" for leaf in leaves),

@@ -75,7 +75,7 @@ def test_a_change_of_what_the_trace_depends_on_traces_again(traces, monkeypatch)
     step(state, x.astype(jnp.int32))  # a dtype
     step(state, x, jnp.ones(2))  # a traced argument more
     assert len(TRACES) == 5 and len(list(traces.glob("*.trace"))) == 5
-    monkeypatch.setattr(trace_cache, "source_hash", lambda: "other source")
+    monkeypatch.setattr(trace_cache, "process_key", lambda: "other source")
     trace_cache.enable(traces)
     step(state, x)
     assert len(TRACES) == 6
