@@ -197,6 +197,10 @@ def symbolic_flat(static: Static, physics, bindings: Bindings) -> jax.Array:
 
 # --- symbolic-entity ------------------------------------------------------------------------------
 ENTITY_POLYGON_FEATURES = POLYGON_FEATURES + 1
+ARENA_SIDES = range(1, NUM_ARENA_POLYGONS)
+"""The polygon slots of the arena's walls and ceiling: always masked in a ``symbolic-entity`` observation (models
+may leave their rows out)."""
+
 ENTITY_CIRCLE_FEATURES = CIRCLE_FEATURES + 1
 CONTACT_DISTANCE = 0.01
 """Two collidable shapes count as in contact (attention channel 3) at a gap of at most this [m]."""
@@ -244,9 +248,9 @@ class EntityObservation:
 
 
 def shape_mask(static: Static, physics) -> jax.Array:
-    """(N,) bool: active body slots other than the arena walls and ceiling (slots 1..3)."""
+    """(N,) bool: active body slots other than the arena walls and ceiling (`ARENA_SIDES`)."""
     slots = jnp.arange(static.num_bodies)
-    arena_side = (slots >= 1) & (slots < NUM_ARENA_POLYGONS)
+    arena_side = (slots >= ARENA_SIDES.start) & (slots < ARENA_SIDES.stop)
     return physics.bodies.active & ~arena_side
 
 

@@ -39,6 +39,7 @@ from kinetix_cli.env.episode import Policy
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.env.level import empty_bindings, make_level
 from kinetix_cli.env.observations import (
+    ARENA_SIDES,
     JOINT_BINDING,
     SHAPE_COS,
     SHAPE_FEATURES,
@@ -194,6 +195,17 @@ class FlatMLP(nn.Module):
         return ActorCriticHeads(self.action_type, self.hidden_width, self.hidden_depth, self.activation)(x)
 
 
+def encode_polygons(mlp: Callable[[jax.Array], jax.Array], rows: jax.Array, mask: jax.Array) -> jax.Array:
+    """(..., P, d) `mlp` of each polygon row of (..., P, F) `rows`, 0 where `mask` is False. The arena sides' rows
+    (`ARENA_SIDES`), masked in every observation, are left out of the computation and their zeros put back in
+    place: the same output for a tenth less of rel-mlp's arithmetic at size s."""
+    start, stop = ARENA_SIDES.start, ARENA_SIDES.stop
+    h = mlp(jnp.concatenate([rows[..., :start, :], rows[..., stop:, :]], axis=-2))
+    sides = jnp.zeros((*h.shape[:-2], stop - start, h.shape[-1]), h.dtype)
+    h = jnp.concatenate([h[..., :start, :], sides, h[..., start:, :]], axis=-2)
+    return jnp.where(mask[..., None], h, 0.0)
+
+
 class EntityEncoders(nn.Module):
     """Per-type MLPs mapping polygon, circle, joint and thruster rows to `width`.
 
@@ -215,8 +227,9 @@ class EntityEncoders(nn.Module):
             h = MLP(self.width, self.depth, self.activation, name=name)(rows)
             return jnp.where(mask[..., None], h, 0.0)
 
+        polygon_encoder = MLP(self.width, self.depth, self.activation, name="polygon_encoder")
         return (
-            encode(obs.polygons, obs.polygon_mask, "polygon_encoder"),
+            encode_polygons(polygon_encoder, obs.polygons, obs.polygon_mask),
             encode(obs.circles, obs.circle_mask, "circle_encoder"),
             encode(obs.joints, obs.joint_mask, "joint_encoder"),
             encode(obs.thrusters, obs.thruster_mask, "thruster_encoder"),
@@ -326,7 +339,11 @@ class RelationalMLP(nn.Module):
 
         shapes = jnp.concatenate(
             [
-                encode(jnp.concatenate([obs.polygons, relative[..., :p, :]], -1), obs.polygon_mask, "polygon_encoder"),
+                encode_polygons(
+                    MLP(self.width, self.encoder_depth, self.activation, name="polygon_encoder"),
+                    jnp.concatenate([obs.polygons, relative[..., :p, :]], -1),
+                    obs.polygon_mask,
+                ),
                 encode(jnp.concatenate([obs.circles, relative[..., p:, :]], -1), obs.circle_mask, "circle_encoder"),
             ],
             axis=-2,

@@ -7,6 +7,7 @@ import dataclasses
 import functools
 import math
 
+import flax.linen as nn
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -20,7 +21,7 @@ from kinetix_cli.env.actions import sample_action
 from kinetix_cli.env.environment import KinetixEnv
 from kinetix_cli.env.level import index_level
 from kinetix_cli.env.mirror import MirrorPairEnv, mirror_action, mirror_env_state
-from kinetix_cli.env.observations import used_bindings
+from kinetix_cli.env.observations import ARENA_SIDES, used_bindings
 from kinetix_cli.rl.distributions import (
     Categorical,
     DiagGaussian,
@@ -255,6 +256,39 @@ def test_masked_rows_do_not_change_the_output(model):
     assert not np.allclose(apply(params, moved)[1], apply(params, base)[1])
 
 
+@pytest.mark.parametrize("model", ENTITY_MODELS)
+def test_the_arena_sides_rows_are_never_read(model):
+    """The walls' and ceiling's rows, masked in every observation, change no output bit (pi-mlp and rel-mlp leave
+    them out of their encoders)."""
+    obs = observations("s", "symbolic-entity")
+    apply, params = entity_model(model)
+    sides = np.zeros(obs.polygon_mask.shape[-1], bool)
+    sides[ARENA_SIDES.start : ARENA_SIDES.stop] = True
+    assert not obs.polygon_mask[:, sides].any()
+    noisy = obs.replace(
+        polygons=jnp.where(sides[:, None], 5.0 + jax.random.normal(jax.random.key(4), obs.polygons.shape), obs.polygons)
+    )
+    for want, got in zip(apply(params, obs), apply(params, noisy), strict=True):
+        np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("model", ["pi-mlp", "rel-mlp"])
+def test_the_polygon_encoder_computes_no_arena_side_row(model):
+    _, params = entity_model(model)
+    obs = observations("s", "symbolic-entity")
+    rows = []
+
+    def record(next_fun, args, kwargs, context):
+        if isinstance(context.module, nn.Dense) and "polygon_encoder" in context.module.scope.path:
+            rows.append(args[0].shape[-2])
+        return next_fun(*args, **kwargs)
+
+    with nn.intercept_methods(record):
+        jax.eval_shape(tiny(model).apply, params, obs)
+    polygons = obs.polygons.shape[-2]
+    assert rows and set(rows) == {polygons - len(ARENA_SIDES)}
+
+
 def permute_entities(obs, polygon_order, circle_order, joint_order, thruster_order):
     """The same scenes with the entity slots of a batched `EntityObservation` reordered (new slot i = old order[i])."""
     p = obs.polygons.shape[1]
@@ -280,7 +314,9 @@ def permute_entities(obs, polygon_order, circle_order, joint_order, thruster_ord
 def test_slot_order_does_not_change_the_output(model):
     obs = observations("s", "symbolic-entity")
     apply, params = entity_model(model)
-    shuffled = permute_entities(obs, [4, 2, 0, 3, 1], [1, 0], [1, 0], [0])
+    # Every order of the slots that can hold a shape: the floor (0) and the free polygon slots (4, ...); the arena
+    # sides (1..3) are masked in every observation and stay where they are (`env.observations.ARENA_SIDES`).
+    shuffled = permute_entities(obs, [4, 1, 2, 3, 0], [1, 0], [1, 0], [0])
     assert not np.array_equal(shuffled.polygons, obs.polygons)
     for want, got in zip(apply(params, obs), apply(params, shuffled), strict=True):
         np.testing.assert_allclose(got, want, rtol=1e-4, atol=1e-5)
