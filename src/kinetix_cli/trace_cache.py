@@ -9,11 +9,11 @@ with the same key deserialises it, and its compile comes from the compile cache.
 
 The key of a program names everything its trace depends on: the function (module and name), the source of the
 `kinetix_cli` and `engine` packages (a hash of every `.py` file: any edit starts new entries), the static arguments
-(their pickled bytes), the structure, shapes, dtypes and shardings of the traced arguments, the ambient mesh, the
-versions of Python and of the libraries whose code is traced (`LIBRARIES`), the backend and its devices, and the jax
-settings that change a trace. A program whose static arguments cannot be pickled, that is called inside another
-trace, that jax cannot export, or that runs over several processes (`jax.distributed`) is traced as `jax.jit`
-traces it.
+(their pickled bytes, a flax module by its class and fields: `static_bytes`), the structure, shapes, dtypes and
+shardings of the traced arguments, the ambient mesh, the versions of Python and of the libraries whose code is
+traced (`LIBRARIES`), the backend and its devices, and the jax settings that change a trace. A program whose static
+arguments cannot be pickled, that is called inside another trace, that jax cannot export, or that runs over several
+processes (`jax.distributed`) is traced as `jax.jit` traces it.
 
 Entries are Python pickles (the output's tree structure and the serialised program): like JAX's compiled programs
 beside them, they are trusted as the user's own files.
@@ -28,9 +28,11 @@ again and the entry written anew, without a word.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import hashlib
 import inspect
+import io
 import os
 import pickle
 import sys
@@ -119,6 +121,29 @@ def process_key() -> str:
     return "\0".join(parts)
 
 
+def static_bytes(static: dict[str, Any]) -> bytes:
+    """The static arguments' part of a key: their pickle, by name, with each flax module written as its class and
+    its fields. A module's own pickle holds its creation number in the process (flax's `_id`), so an equal network
+    built after other modules (as in a test suite, or by another command) would give another key."""
+    buffer = io.BytesIO()
+    _StaticPickler(buffer, protocol=5).dump(sorted(static.items()))
+    return buffer.getvalue()
+
+
+class _StaticPickler(pickle.Pickler):
+    def reducer_override(self, obj):
+        linen = sys.modules.get("flax.linen")  # no flax imported: no module to find
+        if linen is not None and isinstance(obj, linen.Module):
+            fields = [(f.name, getattr(obj, f.name)) for f in dataclasses.fields(obj) if f.name != "parent"]
+            return _module, (type(obj), fields)
+        return NotImplemented
+
+
+def _module(cls, fields):
+    """Stands for a module in `static_bytes` (never called: keys are not read back)."""
+    return cls(**dict(fields))
+
+
 def cached_jit(fun: Callable | None = None, *, static_argnums=(), static_argnames=()):
     """`jax.jit(fun, static_argnums=..., static_argnames=...)` whose trace is kept on disk when `enable`d; usable
     as a decorator with or without arguments. The returned function also has `jax.jit`'s `lower` and `trace`."""
@@ -165,7 +190,7 @@ class TracedProgram:
             return self.jitted(*args, **kwargs)  # inside another trace: part of that program
         leaves = [leaf if isinstance(leaf, jax.Array) else jnp.asarray(leaf) for leaf in leaves]
         try:
-            statics = pickle.dumps(sorted(static.items()), protocol=5)
+            statics = static_bytes(static)
         except Exception:  # a static argument without a stable byte form: no key
             return self.jitted(*args, **kwargs)
         key = self._key(statics, tree, leaves)

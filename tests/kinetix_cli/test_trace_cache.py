@@ -3,6 +3,8 @@ cleared) instead of traced again, computes the same bits, and any change of what
 
 from __future__ import annotations
 
+import dataclasses
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -92,6 +94,18 @@ def test_a_damaged_entry_is_traced_again_and_rewritten(traces):
     trace_cache.enable(traces)
     step(state, x)
     assert len(TRACES) == 2, "the rewritten entry is read back"
+
+
+def test_an_equal_network_built_after_other_modules_has_the_same_key():
+    """flax numbers the modules a process builds; a key must not see the number (else a test suite, where each
+    test builds other networks first, never reads a trace back)."""
+    config = tiny_config()
+    first = trace_cache.static_bytes({"network": make_network(config.model, config.env), "scale": 2.0})
+    for _ in range(3):
+        make_network(config.model, config.env)
+    assert trace_cache.static_bytes({"network": make_network(config.model, config.env), "scale": 2.0}) == first
+    wider = dataclasses.replace(config.model, width=config.model.width + 1)
+    assert trace_cache.static_bytes({"network": make_network(wider, config.env), "scale": 2.0}) != first
 
 
 def test_inside_another_trace_or_off_it_is_jax_jit(traces):
