@@ -37,6 +37,7 @@ import os
 import pickle
 import sys
 import tempfile
+import time
 from collections.abc import Callable
 from importlib.metadata import version
 from pathlib import Path
@@ -51,6 +52,8 @@ VARIABLE = "KINETIX_TRACE_CACHE"
 SUFFIX = ".trace"
 MAX_BYTES = 2**30
 """The folder's size bound: beyond it, the least recently used entries are removed after a write."""
+STALE_SECONDS = 3600
+"""A temporary file this old belongs to a write that was stopped (a live write renames its file within seconds)."""
 SETTINGS = (
     "jax_enable_x64",
     "jax_default_matmul_precision",
@@ -292,7 +295,11 @@ def _write(key: str, exported, out_tree) -> None:
 
 def _bound(folder: Path, kept: Path) -> None:
     """Remove the least recently used entries but `kept` (the one just written) while the folder holds more than
-    `MAX_BYTES`."""
+    `MAX_BYTES`, and the temporary files of writes stopped before their rename (`STALE_SECONDS` old)."""
+    for temporary in folder.glob(".*.tmp"):
+        with contextlib.suppress(OSError):
+            if time.time() - temporary.stat().st_mtime > STALE_SECONDS:
+                temporary.unlink()
     entries = []
     for path in folder.glob(f"*{SUFFIX}"):
         with contextlib.suppress(OSError):

@@ -4,6 +4,8 @@ cleared) instead of traced again, computes the same bits, and any change of what
 from __future__ import annotations
 
 import dataclasses
+import os
+import time
 
 import jax
 import jax.numpy as jnp
@@ -135,6 +137,18 @@ def test_a_training_update_read_back_computes_what_jax_jit_computes(traces, tiny
     ppo_update(runner, env_params, tiny_pool, **parts)
     trace_cache.enable(traces)
     equal(ppo_update(runner, env_params, tiny_pool, **parts), ppo_update.jitted(runner, env_params, tiny_pool, **parts))
+
+
+def test_a_write_stopped_before_its_rename_leaves_nothing_for_long(traces):
+    traces.mkdir(parents=True)
+    stopped, live = traces / ".stopped.tmp", traces / ".live.tmp"
+    stopped.write_bytes(b"half an entry")
+    live.write_bytes(b"being written")
+    hours_ago = time.time() - 2 * trace_cache.STALE_SECONDS
+    os.utime(stopped, (hours_ago, hours_ago))
+    state, x = inputs()
+    step(state, x)  # a write
+    assert not stopped.exists() and live.exists()
 
 
 def test_the_traces_live_in_the_compile_cache_folder_unless_switched_off(monkeypatch, tmp_path):
