@@ -14,7 +14,8 @@ leading shape, so callers apply them to batches directly; `jax.vmap` over ``appl
 
 The entity models see no slot index and no positional encoding: their parameters do not depend on the level
 size (the same params apply to s, m and l observations) and their output does not depend on the order of the
-entity slots. Masked entity rows never reach the output.
+entity slots that can hold a shape. Masked entity rows never reach the output; the arena's walls and ceiling, masked
+in every observation (`env.observations.ARENA_SIDES`), are not even computed by pi-mlp's and rel-mlp's encoders.
 
 Initialisation follows PureJaxRL: orthogonal kernels with gain sqrt(2) in hidden layers, 0.01 on the actor
 head and 1.0 on the critic head, zero biases; the attention and gate layers keep flax's defaults.
@@ -304,7 +305,8 @@ class RelationalMLP(nn.Module):
        in action order, beside the means of all joints and all thrusters.
     4. These 12 d values, the gravity and the blue-minus-green centroid offset go to `ActorCriticHeads`.
 
-    No slot index is read: the parameters fit every size and the output does not depend on slot order.
+    No slot index is read: the parameters fit every size and the output does not depend on the order of the slots
+    that can hold a shape.
 
     Attributes:
         action_type: one of `constants.ACTION_TYPES`.
