@@ -60,7 +60,7 @@ def learning() -> None:
             continue
         times = seconds(f"epoch-{seed}")
         last = len(times)
-        sfl = sum(times[i] - plain_median(times) for i in range(0, last, 64) if i) / sum(times)
+        sfl = sum(times[i] - plain_median(times) for i in range(64, last, 64)) / sum(times[1:])  # as ../minutes/
         a, e = score(seed, 768), score(seed, last)
         at.append(a), end.append(e)
         fmt = lambda v: "-" if v is None else f"{v:.1f}%"  # noqa: E731
