@@ -26,7 +26,8 @@ def scores(run: str) -> dict[int, float]:
 
 
 print(
-    "| code, seed | scored checkpoints (update: score) | first at 15.3% | its minutes | final | run minutes | scoring share |"
+    "| code, seed | scored checkpoints (update: score) | first at 15.3% | its minutes | final | run minutes "
+    "| scoring share |"
 )
 print("|---|---|---|---|---|---|---|")
 reached = []
