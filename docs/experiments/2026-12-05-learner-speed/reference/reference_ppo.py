@@ -146,8 +146,16 @@ def build(args):
     return update, (key, train_state, hstate, obs, env_state), facts
 
 
+def flops(compiled) -> float | None:
+    """XLA's count of the compiled update's floating-point operations (as `kinetix bench train` reads it)."""
+    cost = compiled.cost_analysis()
+    cost = cost[0] if isinstance(cost, (list, tuple)) else cost
+    return float(cost["flops"]) if cost and "flops" in cost else None
+
+
 def time_update(update, carry, steps_per_call: int, min_time: float):
-    """Compile time, median env steps/s over the timed calls, number of timed calls (as our `time_calls`)."""
+    """Compile time, median env steps/s over the timed calls, number of timed calls (as our `time_calls`), and
+    the update's FLOPs."""
     start = time.perf_counter()
     compiled = jax.jit(update).lower(*carry).compile()
     compile_s = time.perf_counter() - start
@@ -159,7 +167,7 @@ def time_update(update, carry, steps_per_call: int, min_time: float):
         elapsed = time.perf_counter() - start
         spent += elapsed
         rates.append(steps_per_call / elapsed)
-    return compile_s, statistics.median(rates), len(rates)
+    return compile_s, statistics.median(rates), len(rates), flops(compiled)
 
 
 def main():
@@ -184,7 +192,7 @@ def main():
     update, carry, facts = build(args)
     build_s = time.perf_counter() - started  # env reset + network init, eager (compiled apart from the update)
     print(f"built env and network in {build_s:.1f} s; compiling the update", file=sys.stderr, flush=True)
-    compile_s, steps_per_s, calls = time_update(update, carry, args.envs * args.steps, args.min_time)
+    compile_s, steps_per_s, calls, update_flops = time_update(update, carry, args.envs * args.steps, args.min_time)
     record = {
         "side": "reference",
         "model": args.model,
@@ -202,6 +210,7 @@ def main():
         "compile_s": round(compile_s, 3),
         "steps_per_s": round(steps_per_s, 1),
         "calls": calls,
+        "update_gflop": None if update_flops is None else round(update_flops / 1e9, 3),
         "min_time": args.min_time,
         "versions": {n: version(n) for n in ("jax", "jaxlib", "kinetix-env", "jax2d", "flax", "optax", "distrax")},
         "machine": {
