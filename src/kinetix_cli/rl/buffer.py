@@ -79,9 +79,11 @@ def draw_from_buffer(buffer: LevelBuffer, key: jax.Array, count: int) -> Level:
     return index_level(buffer.levels, rows)
 
 
+@jax.jit
 def buffer_metrics(buffer: LevelBuffer) -> dict[str, jax.Array]:
     """What a researcher needs to see a curriculum work: the buffer's size, mean score, and the distribution of
-    its levels' solve rates (mean and the 10th, 50th and 90th percentiles)."""
+    its levels' solve rates (mean and the 10th, 50th and 90th percentiles). One program (a run logs it after every
+    update; op by op, its first call compiled about ten small programs in every new process)."""
     filled = jnp.arange(buffer.score.shape[0]) < buffer.size
     count = jnp.maximum(buffer.size, 1)
     rates = jnp.where(filled, buffer.solve_rate, jnp.nan)

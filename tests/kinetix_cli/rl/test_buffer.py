@@ -13,7 +13,7 @@ from kinetix_cli.rl import buffer as buffers
 top_levels = jax.jit(buffers.top_levels, static_argnums=3)
 empty_buffer = jax.jit(buffers.empty_buffer, static_argnums=1)
 draw_from_buffer = jax.jit(buffers.draw_from_buffer, static_argnums=2)
-buffer_metrics = jax.jit(buffers.buffer_metrics)
+buffer_metrics = buffers.buffer_metrics
 
 
 @jax.jit
