@@ -118,9 +118,9 @@ print(saving, all(np.array_equal(back[k], state[k]) for k in state))
 
 
 def test_a_save_on_2_devices_compiles_nothing_and_reads_back(tmp_path):
-    """Replicated arrays are written whole by one replica (orbax's replica-parallel write slices each shard with a
-    compiled program: one compile per array and device, a second per new process for the general recipe); a sharded
-    one as before. The checkpoint reads back equal."""
+    """Replicated arrays are written whole by one replica (orbax's replica-parallel write slices their shards with
+    small compiled programs: about a second of every new process's first save of the general recipe's state); a
+    sharded one as before. The checkpoint reads back equal."""
     env = process_env() | {"XLA_FLAGS": FORCE_2}
     done = subprocess.run(
         [sys.executable, "-c", SAVE_ON_2_DEVICES, str(tmp_path)], env=env, capture_output=True, text=True
