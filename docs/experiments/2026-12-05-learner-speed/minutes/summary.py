@@ -1,7 +1,7 @@
 """The minutes-to-15.3% table from the files next to this script (run.sh's): each seed's scored checkpoints, the
 first at or above general-s v2's 15.3% with its training minutes (README.md's rule), the final score, the run's
 minutes, and SFL scoring's share of them (the refresh updates' time beyond a plain update's median); today's code's
-seeds (run.sh), v2's own code's (run_v2.sh), 11c143b's (run_before.sh). Run: python summary.py"""
+seeds (run.sh), v2's own code's (run_v2.sh, run_v2_last.sh), 11c143b's (run_before.sh). Run: python summary.py"""
 
 import json
 import statistics
@@ -31,7 +31,7 @@ print(
 )
 print("|---|---|---|---|---|---|---|")
 reached = []
-for run in ["today-0", "today-1", "today-2", "v2-1", "before-1"]:
+for run in ["today-0", "today-1", "today-2", "v2-1", "before-1", "v2-2"]:
     if not (HERE / f"metrics-{run}.jsonl").exists():
         continue
     times, scored = seconds(run), scores(run)
