@@ -15,6 +15,9 @@ traced (`LIBRARIES`), the backend and its devices, and the jax settings that cha
 arguments cannot be pickled, that is called inside another trace, that jax cannot export, or that runs over several
 processes (`jax.distributed`) is traced as `jax.jit` traces it.
 
+`load_together` compiles several programs at once, one thread each, for the calls that follow (SFL's refresh and
+update: a process's first update loads both).
+
 Entries are Python pickles (the output's tree structure and the serialised program): like JAX's compiled programs
 beside them, they are trusted as the user's own files.
 
@@ -27,6 +30,7 @@ again and the entry written anew, without a word.
 
 from __future__ import annotations
 
+import concurrent.futures
 import contextlib
 import dataclasses
 import functools
@@ -180,29 +184,50 @@ class TracedProgram:
 
     def __call__(self, *args, **kwargs):
         import jax
+
+        found = self._program(args, kwargs)
+        if found is None:
+            return self.jitted(*args, **kwargs)
+        call, out_tree, leaves = found
+        return jax.tree.unflatten(out_tree, call(*leaves))
+
+    def _program(self, args: tuple, kwargs: dict) -> tuple[Callable, Any, list] | None:
+        """The jitted call of the exported program for these arguments (read from disk, or traced and written on
+        first use), its output's tree structure and the traced arguments' leaves; None where the call is
+        `jax.jit`'s own (traces off, over several processes, inside another trace, no key, not exportable)."""
+        import jax
         import jax.numpy as jnp
 
         if _folder is None or self.plain or jax.process_count() > 1:  # (runs over processes: not measured)
-            return self.jitted(*args, **kwargs)
+            return None
         bound = self.signature.bind(*args, **kwargs)
         bound.apply_defaults()
         static = {k: v for k, v in bound.arguments.items() if k in self.static}
         traced = {k: v for k, v in bound.arguments.items() if k not in self.static}
         leaves, tree = jax.tree.flatten(traced)
         if any(isinstance(leaf, jax.core.Tracer) for leaf in leaves):
-            return self.jitted(*args, **kwargs)  # inside another trace: part of that program
+            return None  # inside another trace: part of that program
         leaves = [leaf if isinstance(leaf, jax.Array) else jnp.asarray(leaf) for leaf in leaves]
         try:
             statics = static_bytes(static)
         except Exception:  # a static argument without a stable byte form: no key
-            return self.jitted(*args, **kwargs)
+            return None
         key = self._key(statics, tree, leaves)
         if key not in _memory:
             _memory[key] = _read(key) or self._export(key, static, tree, leaves)
         if _memory[key] is None:  # jax could not export it
-            return self.jitted(*args, **kwargs)
+            return None
         call, out_tree = _memory[key]
-        return jax.tree.unflatten(out_tree, call(*leaves))
+        return call, out_tree, leaves
+
+    def lowered(self, *args, **kwargs):
+        """The program a call with these arguments runs, lowered (`jax.stages.Lowered`): compiling it compiles
+        what the call will run (`load_together`)."""
+        found = self._program(args, kwargs)
+        if found is None:
+            return self.jitted.lower(*args, **kwargs)
+        call, _, leaves = found
+        return call.lower(*leaves)
 
     def _key(self, statics: bytes, tree, leaves: list) -> str:
         import jax
@@ -314,3 +339,23 @@ def _bound(folder: Path, kept: Path) -> None:
         with contextlib.suppress(OSError):
             path.unlink()
         total -= size
+
+
+def load_together(*calls: functools.partial) -> None:
+    """Compile the programs of `calls` (each a `cached_jit` function with its arguments) at once, one thread each,
+    for the calls that follow: jax keeps what it compiled, and the calls find it (a program compiled before is
+    found there too). Nothing runs; a call that cannot be lowered or compiled here is left to itself (the call
+    raises what it raises).
+
+    Why: a command's first call of each big program waits on its compile, from the compile cache a load of
+    seconds (a training update's: its HLO module rebuilt, its executable linked) that keeps one core busy, and two
+    programs called one after the other load one after the other. Loaded side by side, the second load uses the
+    core the first leaves idle, and without a cache the compiles overlap the same way."""
+    lowered = []
+    for call in calls:
+        with contextlib.suppress(Exception):
+            lowered.append(call.func.lowered(*call.args, **call.keywords))
+    with concurrent.futures.ThreadPoolExecutor(max(len(lowered), 1)) as pool:
+        for compiling in [pool.submit(step.compile) for step in lowered]:
+            with contextlib.suppress(Exception):
+                compiling.result()

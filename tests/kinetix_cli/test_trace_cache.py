@@ -4,6 +4,7 @@ cleared) instead of traced again, computes the same bits, and any change of what
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import time
 
@@ -18,10 +19,18 @@ from kinetix_cli import trace_cache
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.ppo import init_runner, ppo_update
-from kinetix_cli.trace_cache import cached_jit
+from kinetix_cli.trace_cache import cached_jit, load_together
 
 TRACES: list[int] = []
 """One entry per trace of `step`."""
+COMPILES: list[str] = []
+"""One entry per compile or compile-cache read of this process (jax's monitoring events)."""
+jax.monitoring.register_event_listener(
+    lambda event, **_: COMPILES.append(event) if "compile_requests" in event else None
+)
+jax.monitoring.register_event_duration_secs_listener(
+    lambda event, seconds, **_: COMPILES.append(event) if event.endswith("backend_compile_duration") else None
+)
 
 
 @struct.dataclass
@@ -137,6 +146,23 @@ def test_a_training_update_read_back_computes_what_jax_jit_computes(traces, tiny
     ppo_update(runner, env_params, tiny_pool, **parts)
     trace_cache.enable(traces)
     equal(ppo_update(runner, env_params, tiny_pool, **parts), ppo_update.jitted(runner, env_params, tiny_pool, **parts))
+
+
+@pytest.mark.parametrize("on", [True, False], ids=["traces", "no traces"])
+def test_programs_loaded_together_are_what_their_calls_run(traces, on):
+    """`load_together` compiles (or reads from the compile cache) the programs the calls that follow run: the calls
+    compile nothing more, and compute what `jax.jit` computes. A call it cannot lower is left to raise itself."""
+    trace_cache.enable(traces if on else None)
+    state, x = inputs()
+    calls = [functools.partial(step, state, x, scale=7.0), functools.partial(step, state, x[:1], scale=7.0)]
+    load_together(*calls, functools.partial(step, state))  # a missing argument: nothing loaded, nothing raised
+    loaded = len(COMPILES)
+    got = [call() for call in calls]
+    assert len(COMPILES) == loaded, "the calls compiled again"
+    for call, out in zip(calls, got, strict=True):
+        equal(out, step.jitted(*call.args, **call.keywords))
+    with pytest.raises(TypeError):
+        step(state)
 
 
 def test_a_write_stopped_before_its_rename_leaves_nothing_for_long(traces):

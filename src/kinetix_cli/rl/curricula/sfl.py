@@ -28,7 +28,7 @@ from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
 from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.networks import sampling_policy
 from kinetix_cli.rl.ppo import Runner, first_reset, train_on, update_keys
-from kinetix_cli.trace_cache import cached_jit
+from kinetix_cli.trace_cache import cached_jit, load_together
 
 
 def episode_counts(
@@ -147,13 +147,25 @@ class SFL(Curriculum):
     def before_update(self, runner, env_params, pool, key, update):
         if update % self.curriculum.refresh_every:
             return runner
-        parts = {"env": self.env, "network": self.network, "fresh": self.fresh, "curriculum": self.curriculum}
-        buffer = refresh_buffer(runner.params, env_params, pool, key, **parts, buffer=runner.buffer, update=update)
-        return runner.replace(buffer=buffer)
+        refresh = self._refresh(runner, env_params, pool, key, update)
+        load_together(refresh, self._update(runner, env_params, pool))  # a process's first refresh: both at once
+        return runner.replace(buffer=refresh())
 
     def update(self, runner, env_params, pool):
+        return self._update(runner, env_params, pool)()
+
+    def _refresh(self, runner, env_params, pool, key, update) -> functools.partial:
+        """The buffer's refresh, as a call with its arguments."""
+        parts = {"env": self.env, "network": self.network, "fresh": self.fresh, "curriculum": self.curriculum}
+        return functools.partial(
+            refresh_buffer, runner.params, env_params, pool, key, **parts, buffer=runner.buffer, update=update
+        )
+
+    def _update(self, runner, env_params, pool) -> functools.partial:
+        """The update, as a call with its arguments (a refreshed buffer has the types of the one it replaces: the
+        same program)."""
         parts = {"env": self.env, "network": self.network, "settings": self.settings, "fresh": self.fresh}
-        return sfl_update(runner, env_params, pool, **parts, curriculum=self.curriculum)
+        return functools.partial(sfl_update, runner, env_params, pool, **parts, curriculum=self.curriculum)
 
     def scoring_steps(self, runner):
         return int(runner.buffer.rounds) * self.curriculum.scoring_steps, True

@@ -14,6 +14,7 @@ from helpers.cli import kinetix
 from helpers.pages import read_report
 from helpers.runs import SFL, SFL_RUN_GROUP, sfl_config, tiny_config
 from kinetix_cli.env.factory import make_env
+from kinetix_cli.rl.curricula import make_curriculum
 from kinetix_cli.rl.curricula.sfl import episode_counts, refresh_buffer
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.pool import fresh_source, level_pool
@@ -111,3 +112,21 @@ def test_a_refresh_plays_all_its_batches_at_once_on_the_levels_and_keys_each_bat
 def level_bytes(levels, i: int) -> bytes:
     """Level `i` of a batch as bytes: equal for equal levels."""
     return b"".join(np.asarray(leaf[i]).tobytes() for leaf in jax.tree.leaves(levels))
+
+
+def test_a_refresh_loads_the_update_beside_it_and_the_update_compiles_nothing():
+    """A process's first refresh compiles (or reads from the compile cache) the update's program beside its own
+    (`trace_cache.load_together`): the refreshed runner's buffer has the types of the one it replaces, so the update
+    that follows finds its program compiled. Sizes of this test alone: no other test compiled these programs."""
+    compiles = []
+    jax.monitoring.register_event_listener(lambda event, **_: compiles.append(event) if "requests" in event else None)
+    config = tiny_config(*SFL, "levels.source=fresh", "levels.files=[]", "curriculum.score_steps=24")
+    fresh = fresh_source(config)
+    env, env_params = make_env(config.env)
+    network = make_network(config.model, config.env)
+    sfl = make_curriculum(config.curriculum, env=env, network=network, ppo=config.ppo, fresh=fresh)
+    runner = init_runner(env, network, config.ppo, None, jax.random.key(0), fresh=fresh, buffer_size=sfl.buffer_size)
+    runner = jax.block_until_ready(sfl.before_update(runner, env_params, None, jax.random.key(1), 0))
+    refreshed = len(compiles)
+    runner, metrics = sfl.update(runner, env_params, None)
+    assert len(compiles) == refreshed and np.isfinite(float(metrics["loss"]))
