@@ -15,8 +15,8 @@ traced (`LIBRARIES`), the backend and its devices, and the jax settings that cha
 arguments cannot be pickled, that is called inside another trace, that jax cannot export, or that runs over several
 processes (`jax.distributed`) is traced as `jax.jit` traces it.
 
-`load_together` compiles several programs at once, one thread each, for the calls that follow (SFL's refresh and
-update: a process's first update loads both).
+`compiling` compiles programs in threads while other work runs, for the calls that follow (SFL's update loads while
+its refresh loads and scores: a process's first update waits on neither load alone).
 
 Entries are Python pickles (the output's tree structure and the serialised program): like JAX's compiled programs
 beside them, they are trusted as the user's own files.
@@ -222,7 +222,7 @@ class TracedProgram:
 
     def lowered(self, *args, **kwargs):
         """The program a call with these arguments runs, lowered (`jax.stages.Lowered`): compiling it compiles
-        what the call will run (`load_together`)."""
+        what the call will run (`compiling`)."""
         found = self._program(args, kwargs)
         if found is None:
             return self.jitted.lower(*args, **kwargs)
@@ -341,21 +341,24 @@ def _bound(folder: Path, kept: Path) -> None:
         total -= size
 
 
-def load_together(*calls: functools.partial) -> None:
-    """Compile the programs of `calls` (each a `cached_jit` function with its arguments) at once, one thread each,
-    for the calls that follow: jax keeps what it compiled, and the calls find it (a program compiled before is
-    found there too). Nothing runs; a call that cannot be lowered or compiled here is left to itself (the call
-    raises what it raises).
+@contextlib.contextmanager
+def compiling(*calls: functools.partial):
+    """Compile the programs of `calls` (each a `cached_jit` function with its arguments) in threads of their own
+    while the block runs, and wait for them when it ends: the calls that follow find their programs compiled (jax
+    keeps what it compiled; a program compiled before is found there at once). Nothing of them runs; a call that
+    cannot be lowered or compiled here is left to itself (the call raises what it raises).
 
     Why: a command's first call of each big program waits on its compile, from the compile cache a load of
-    seconds (a training update's: its HLO module rebuilt, its executable linked) that keeps one core busy, and two
-    programs called one after the other load one after the other. Loaded side by side, the second load uses the
-    core the first leaves idle, and without a cache the compiles overlap the same way."""
+    seconds (a training update's: its HLO module rebuilt, its executable linked) on one core. A program loaded
+    while the block loads and runs another uses the core that leaves idle; without a cache the compiles overlap
+    the same way."""
     lowered = []
-    for call in calls:
+    for call in calls:  # lowered here: a trace sees this thread's settings (the mesh)
         with contextlib.suppress(Exception):
             lowered.append(call.func.lowered(*call.args, **call.keywords))
     with concurrent.futures.ThreadPoolExecutor(max(len(lowered), 1)) as pool:
-        for compiling in [pool.submit(step.compile) for step in lowered]:
+        compiles = [pool.submit(step.compile) for step in lowered]
+        yield
+        for compile_ in compiles:
             with contextlib.suppress(Exception):
-                compiling.result()
+                compile_.result()

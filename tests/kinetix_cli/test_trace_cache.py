@@ -19,7 +19,7 @@ from kinetix_cli import trace_cache
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.rl.networks import make_network
 from kinetix_cli.rl.ppo import init_runner, ppo_update
-from kinetix_cli.trace_cache import cached_jit, load_together
+from kinetix_cli.trace_cache import cached_jit, compiling
 
 TRACES: list[int] = []
 """One entry per trace of `step`."""
@@ -150,12 +150,13 @@ def test_a_training_update_read_back_computes_what_jax_jit_computes(traces, tiny
 
 @pytest.mark.parametrize("on", [True, False], ids=["traces", "no traces"])
 def test_programs_loaded_together_are_what_their_calls_run(traces, on):
-    """`load_together` compiles (or reads from the compile cache) the programs the calls that follow run: the calls
+    """`compiling` compiles (or reads from the compile cache) the programs the calls that follow run: the calls
     compile nothing more, and compute what `jax.jit` computes. A call it cannot lower is left to raise itself."""
     trace_cache.enable(traces if on else None)
     state, x = inputs()
     calls = [functools.partial(step, state, x, scale=7.0), functools.partial(step, state, x[:1], scale=7.0)]
-    load_together(*calls, functools.partial(step, state))  # a missing argument: nothing loaded, nothing raised
+    with compiling(*calls, functools.partial(step, state)):  # a missing argument: nothing loaded, nothing raised
+        pass
     loaded = len(COMPILES)
     got = [call() for call in calls]
     assert len(COMPILES) == loaded, "the calls compiled again"

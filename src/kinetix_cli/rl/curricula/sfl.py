@@ -28,7 +28,7 @@ from kinetix_cli.rl.buffer import LevelBuffer, draw_from_buffer, top_levels
 from kinetix_cli.rl.curricula.base import Curriculum
 from kinetix_cli.rl.networks import sampling_policy
 from kinetix_cli.rl.ppo import Runner, first_reset, train_on, update_keys
-from kinetix_cli.trace_cache import cached_jit, load_together
+from kinetix_cli.trace_cache import cached_jit, compiling
 
 
 def episode_counts(
@@ -148,8 +148,8 @@ class SFL(Curriculum):
         if update % self.curriculum.refresh_every:
             return runner
         refresh = self._refresh(runner, env_params, pool, key, update)
-        load_together(refresh, self._update(runner, env_params, pool))  # a process's first refresh: both at once
-        return runner.replace(buffer=refresh())
+        with compiling(self._update(runner, env_params, pool)):  # loads while the refresh loads and scores
+            return runner.replace(buffer=refresh())
 
     def update(self, runner, env_params, pool):
         return self._update(runner, env_params, pool)()

@@ -116,7 +116,7 @@ def level_bytes(levels, i: int) -> bytes:
 
 def test_a_refresh_loads_the_update_beside_it_and_the_update_compiles_nothing():
     """A process's first refresh compiles (or reads from the compile cache) the update's program beside its own
-    (`trace_cache.load_together`): the refreshed runner's buffer has the types of the one it replaces, so the update
+    (`trace_cache.compiling`): the refreshed runner's buffer has the types of the one it replaces, so the update
     that follows finds its program compiled. Sizes of this test alone: no other test compiled these programs."""
     compiles = []
     jax.monitoring.register_event_listener(lambda event, **_: compiles.append(event) if "requests" in event else None)
