@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import atexit
+import gc
 import sys
 import warnings
 
@@ -58,6 +60,18 @@ def main() -> None:
     the big programs' traces with them (`kinetix_cli.trace_cache`, in that folder's `traces`). The CPU
     is split into one JAX device per core (`kinetix_cli.cpu`: at most 4; `KINETIX_CPU_DEVICES=N`).
     """
+    try:
+        _run()
+    finally:
+        # The command is over. Python's exit would walk the whole heap once more for cycles (a training run's
+        # traces and programs: 0.3-0.8 s) just before the process's end frees it all; frozen, the walk is skipped.
+        # Registered last, it runs first: before jax's exit handler, whose clearing of caches starts such a walk.
+        atexit.unregister(gc.freeze)
+        atexit.register(gc.freeze)
+
+
+def _run() -> None:
+    """`main` until the command is over."""
     folder = compile_cache.cache_folder()
     compile_cache.enable(folder)
     trace_cache.enable(trace_cache.folder_in(folder))
