@@ -148,13 +148,14 @@ def test_a_training_update_read_back_computes_what_jax_jit_computes(traces, tiny
     equal(ppo_update(runner, env_params, tiny_pool, **parts), ppo_update.jitted(runner, env_params, tiny_pool, **parts))
 
 
-@pytest.mark.parametrize("on", [True, False], ids=["traces", "no traces"])
-def test_programs_loaded_together_are_what_their_calls_run(traces, on):
+@pytest.mark.parametrize("on, scale", [(True, 7.0), (False, 8.0)], ids=["traces", "no traces"])
+def test_programs_loaded_together_are_what_their_calls_run(traces, on, scale):
     """`compiling` compiles (or reads from the compile cache) the programs the calls that follow run: the calls
-    compile nothing more, and compute what `jax.jit` computes. A call it cannot lower is left to raise itself."""
+    compile nothing more, and compute what `jax.jit` computes. A call it cannot lower is left to raise itself. Each
+    case's own `scale`: programs no other test compiled."""
     trace_cache.enable(traces if on else None)
     state, x = inputs()
-    calls = [functools.partial(step, state, x, scale=7.0), functools.partial(step, state, x[:1], scale=7.0)]
+    calls = [functools.partial(step, state, x, scale=scale), functools.partial(step, state, x[:1], scale=scale)]
     with compiling(*calls, functools.partial(step, state)):  # a missing argument: nothing loaded, nothing raised
         pass
     loaded = len(COMPILES)

@@ -118,8 +118,11 @@ def test_a_refresh_loads_the_update_beside_it_and_the_update_compiles_nothing():
     """A process's first refresh compiles (or reads from the compile cache) the update's program beside its own
     (`trace_cache.compiling`): the refreshed runner's buffer has the types of the one it replaces, so the update
     that follows finds its program compiled. Sizes of this test alone: no other test compiled these programs."""
-    compiles = []
+    compiles = []  # compiles and compile-cache reads (jax's monitoring events)
     jax.monitoring.register_event_listener(lambda event, **_: compiles.append(event) if "requests" in event else None)
+    jax.monitoring.register_event_duration_secs_listener(
+        lambda event, seconds, **_: compiles.append(event) if event.endswith("backend_compile_duration") else None
+    )
     config = tiny_config(*SFL, "levels.source=fresh", "levels.files=[]", "curriculum.score_steps=24")
     fresh = fresh_source(config)
     env, env_params = make_env(config.env)
