@@ -153,7 +153,8 @@ def _module(cls, fields):
 
 def cached_jit(fun: Callable | None = None, *, static_argnums=(), static_argnames=()):
     """`jax.jit(fun, static_argnums=..., static_argnames=...)` whose trace is kept on disk when `enable`d; usable
-    as a decorator with or without arguments. The returned function also has `jax.jit`'s `lower` and `trace`."""
+    as a decorator with or without arguments. The returned function also has `lower` (of what its call runs) and
+    `jax.jit`'s `trace`."""
     if fun is None:
         return functools.partial(cached_jit, static_argnums=static_argnums, static_argnames=static_argnames)
     return TracedProgram(fun, static_argnums, static_argnames)
@@ -175,9 +176,6 @@ class TracedProgram:
         self.plain = any(p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD) for p in self.signature.parameters.values())
         self.name = f"{fun.__module__}.{fun.__qualname__}"
         functools.update_wrapper(self, fun)
-
-    def lower(self, *args, **kwargs):
-        return self.jitted.lower(*args, **kwargs)
 
     def trace(self, *args, **kwargs):
         return self.jitted.trace(*args, **kwargs)
@@ -220,9 +218,9 @@ class TracedProgram:
         call, out_tree = _memory[key]
         return call, out_tree, leaves
 
-    def lowered(self, *args, **kwargs):
-        """The program a call with these arguments runs, lowered (`jax.stages.Lowered`): compiling it compiles
-        what the call will run (`compiling`)."""
+    def lower(self, *args, **kwargs):
+        """The program a call with these arguments runs, lowered (`jax.stages.Lowered`; with traces on, the exported
+        program read back or traced): compiling it compiles what the call will run (`compiling`)."""
         found = self._program(args, kwargs)
         if found is None:
             return self.jitted.lower(*args, **kwargs)
@@ -355,7 +353,7 @@ def compiling(*calls: functools.partial):
     lowered = []
     for call in calls:  # lowered here: a trace sees this thread's settings (the mesh)
         with contextlib.suppress(Exception):
-            lowered.append(call.func.lowered(*call.args, **call.keywords))
+            lowered.append(call.func.lower(*call.args, **call.keywords))
     with concurrent.futures.ThreadPoolExecutor(max(len(lowered), 1)) as pool:
         compiles = [pool.submit(step.compile) for step in lowered]
         yield
