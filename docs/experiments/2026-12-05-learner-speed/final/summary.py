@@ -19,8 +19,9 @@ for round_ in (1, 2):
     print(f"| {round_} | " + " | ".join(cells) + " |")
 
 print()
-print("| size | model | update env steps/s | env alone | learn share | update GFLOP/s | learn GFLOP/s | f32 limit | of it |")
-print("|---" * 9 + "|")
+COLUMNS = "size, model, update env steps/s, env alone, learn share, update GFLOP/s, learn GFLOP/s, f32 limit, of it"
+print("| " + " | ".join(COLUMNS.split(", ")) + " |")
+print("|---" * len(COLUMNS.split(", ")) + "|")
 for size in ("s", "m"):
     for result in load(f"breakdown-{size}")["results"]:
         b = result["breakdown"]
