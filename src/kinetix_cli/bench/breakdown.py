@@ -23,7 +23,12 @@ For one model and environment count, at exactly the update's shapes (`UpdateSetu
   env step's FLOPs are a lower bound. `xla_update_gflop` is XLA's figure for the whole compiled update as it
   reports it;
 - the machine's matmul limit in this process: float32 and bfloat16 matmuls at the update's dominant shapes
-  (`matmul_shapes`), in GFLOP/s; the update's achieved FLOP/s as a share of the float32 limit.
+  (`matmul_shapes`), in GFLOP/s; the update's achieved FLOP/s as a share of the float32 limit;
+- the curriculum's scoring, given SFL settings (`scoring_time`): one refresh of its buffer
+  (`rl.curricula.sfl.refresh_buffer`: `score_levels` levels x `score_attempts` copies x `score_steps` steps,
+  drawn from the pool) with the update's network, timed as the median over repeated calls, and what a run pays
+  for it per update (one refresh every `refresh_every` updates) and as a share of the run's time. The candidates
+  are the pool's full random levels; a run that scores fresh levels also pays for generating them.
 """
 
 from __future__ import annotations
@@ -42,10 +47,12 @@ import jax.numpy as jnp
 
 from kinetix_cli.bench.env import EnvBenchConfig, bench_env
 from kinetix_cli.bench.timing import time_calls
-from kinetix_cli.config import ExperimentConfig
+from kinetix_cli.config import CurriculumSettings, ExperimentConfig
 from kinetix_cli.env.environment import EnvParams, KinetixEnv
 from kinetix_cli.env.level import Level, draw_levels
 from kinetix_cli.parallel import batch_sharded
+from kinetix_cli.rl.buffer import empty_buffer
+from kinetix_cli.rl.curricula.sfl import refresh_buffer
 from kinetix_cli.rl.ppo import Runner, Transition, collect, final_values, gae, learn, rollout_metrics, truncated_rows
 
 PHASES = ("env step", "rollout forward", "GAE", "learn", "host sync")
@@ -106,6 +113,32 @@ class MatmulRate:
 
 
 @dataclasses.dataclass
+class ScoringTime:
+    """SFL's scoring as a run with its settings pays it (`scoring_time`).
+
+    Attributes:
+        levels: levels scored per refresh (`curriculum.score_levels`).
+        attempts: copies of each level played (`curriculum.score_attempts`).
+        steps: steps each copy plays (`curriculum.score_steps`).
+        refresh_every: updates per refresh (`curriculum.refresh_every`).
+        refresh_ms: median time of one refresh [ms].
+        steps_per_s: the refresh's levels x attempts x steps env steps per second [env steps/s].
+        per_update_ms: `refresh_ms` / `refresh_every`: the scoring's time per update of a run [ms].
+        share: `per_update_ms` / (the update's time + `per_update_ms`): the scoring's share of a run's time
+            [fraction].
+    """
+
+    levels: int
+    attempts: int
+    steps: int
+    refresh_every: int
+    refresh_ms: float
+    steps_per_s: float
+    per_update_ms: float
+    share: float
+
+
+@dataclasses.dataclass
 class Breakdown:
     """Where one update's time goes, its FLOPs and the machine's matmul limit (see the module docstring).
 
@@ -127,6 +160,7 @@ class Breakdown:
         f32_limit_gflop_per_s: the best float32 matmul rate [GFLOP/s].
         best_limit_gflop_per_s: the best matmul rate of any dtype [GFLOP/s].
         f32_limit_share: `update_gflop_per_s` / `f32_limit_gflop_per_s` [fraction].
+        scoring: SFL's scoring beside the update (None: not asked for).
     """
 
     update_ms: float
@@ -145,14 +179,23 @@ class Breakdown:
     f32_limit_gflop_per_s: float
     best_limit_gflop_per_s: float
     f32_limit_share: float
+    scoring: ScoringTime | None = None
 
 
 def measure_breakdown(
-    setup: UpdateSetup, runner: Runner, update: Callable, update_ms: float, min_time: float, seed: int, levels: int
+    setup: UpdateSetup,
+    runner: Runner,
+    update: Callable,
+    update_ms: float,
+    min_time: float,
+    seed: int,
+    levels: int,
+    scoring: CurriculumSettings | None = None,
 ) -> Breakdown:
     """The breakdown of one update. `update(runner) -> (runner,)` is the function whose median time was
     `update_ms` (its compile is cached, so costing it compiles nothing); `min_time` is the seconds each phase is
-    timed for; `seed` and `levels` are the level pool's, for the environment-only ceiling."""
+    timed for; `seed` and `levels` are the level pool's, for the environment-only ceiling; `scoring`, SFL's
+    settings whose scoring is timed beside the update (None: none)."""
     counted = loops_counted()
     xla_update = xla_flops(jax.jit(update).lower(runner).compile())  # cached when the update was timed
     phases = time_phases(setup, runner, update_ms, counted, min_time)
@@ -179,6 +222,7 @@ def measure_breakdown(
         f32_limit_gflop_per_s=f32,
         best_limit_gflop_per_s=max(m.gflop_per_s for m in matmuls),
         f32_limit_share=achieved / f32,
+        scoring=None if scoring is None else scoring_time(setup, runner, scoring, update_ms, min_time),
     )
 
 
@@ -203,6 +247,28 @@ def time_phases(
     timed.append((host_sync_ms(transitions, finished, losses), 0.0))
     phases = [PhaseTime(name, ms, ms / update_ms, flop / 1e9) for name, (ms, flop) in zip(PHASES, timed, strict=True)]
     return phases
+
+
+def scoring_time(
+    setup: UpdateSetup, runner: Runner, curriculum: CurriculumSettings, update_ms: float, min_time: float
+) -> ScoringTime:
+    """One SFL refresh with `curriculum`'s settings (`scoring_phase`) timed for `min_time` seconds with the
+    runner's parameters, and what a run pays for it beside updates of `update_ms`."""
+    steps = curriculum.score_levels * curriculum.score_attempts * curriculum.score_steps
+    buffer = empty_buffer(setup.pool, curriculum.buffer_size)
+    _, rate, _ = time_calls(scoring_phase(setup, curriculum), (runner.params, runner.key, buffer), steps, min_time)
+    refresh_ms = 1e3 * steps / rate
+    per_update = refresh_ms / curriculum.refresh_every
+    return ScoringTime(
+        levels=curriculum.score_levels,
+        attempts=curriculum.score_attempts,
+        steps=curriculum.score_steps,
+        refresh_every=curriculum.refresh_every,
+        refresh_ms=refresh_ms,
+        steps_per_s=rate,
+        per_update_ms=per_update,
+        share=per_update / (update_ms + per_update),
+    )
 
 
 def trace_updates(update: Callable, runner: Runner, directory: str, count: int) -> None:
@@ -283,6 +349,20 @@ def learn_phase(setup: UpdateSetup) -> Callable:
     def run(runner: Runner, transitions: Transition, advantages, targets, losses):
         runner, losses = learn(runner, transitions, advantages, targets, network=network, settings=settings)
         return runner, transitions, advantages, targets, losses
+
+    return run
+
+
+def scoring_phase(setup: UpdateSetup, curriculum: CurriculumSettings) -> Callable:
+    """(params, key, buffer) -> (the same params, the next key, the refreshed buffer): one refresh of SFL's
+    buffer (`rl.curricula.sfl.refresh_buffer`) with `curriculum`'s settings, its candidates drawn from the pool."""
+    parts = {"env": setup.env, "network": setup.network, "fresh": None, "curriculum": curriculum}
+
+    def run(params, key, buffer):
+        key, k_refresh = jax.random.split(key)
+        update = jnp.zeros((), jnp.int32)
+        buffer = refresh_buffer(params, setup.env_params, setup.pool, k_refresh, **parts, buffer=buffer, update=update)
+        return params, key, buffer
 
     return run
 

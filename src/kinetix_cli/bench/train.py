@@ -9,7 +9,8 @@ heaviest case for the engine and for the entity models. Each model reads its fir
 local devices (`kinetix_cli.parallel`), the environments split across them.
 
 With `breakdown`, each measurement also says where the update's time goes (`bench.breakdown`: the environment
-alone, each phase alone, FLOPs and the machine's matmul limit), on one device. With `trace`, a JAX profiler trace
+alone, each phase alone, FLOPs and the machine's matmul limit, and with `score_levels` SFL's scoring beside it),
+on one device. With `trace`, a JAX profiler trace
 of `TRACE_UPDATES` updates of each measurement is written under that folder, one subfolder per measurement
 (`trace_name`).
 """
@@ -27,7 +28,7 @@ from engine import SIZES
 from kinetix_cli.bench.breakdown import Breakdown, UpdateSetup, measure_breakdown, trace_updates
 from kinetix_cli.bench.env import random_levels
 from kinetix_cli.bench.timing import time_calls
-from kinetix_cli.config import EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
+from kinetix_cli.config import CurriculumSettings, EnvSettings, ExperimentConfig, ModelSettings, PPOSettings
 from kinetix_cli.constants import COMPUTE_TYPES, MODEL_NAMES, MODEL_OBSERVATIONS
 from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import UserError
@@ -58,6 +59,8 @@ class TrainBenchConfig:
         devices: local device counts to measure on (None: all local devices; 1 with `breakdown`).
         breakdown: also measure where each update's time goes (`bench.breakdown`; one device only).
         trace: folder for a JAX profiler trace of each measurement's updates (None: no trace).
+        score_levels, score_attempts, score_steps, refresh_every: with `breakdown`, SFL's scoring timed beside the
+            update with these `curriculum` settings (`scoring_settings`); 0 levels: none.
     """
 
     size: str = "s"
@@ -75,6 +78,10 @@ class TrainBenchConfig:
     devices: tuple[int, ...] | None = None
     breakdown: bool = False
     trace: str | None = None
+    score_levels: int = 0
+    score_attempts: int = 2
+    score_steps: int = 256
+    refresh_every: int = 64
 
 
 @dataclasses.dataclass
@@ -109,6 +116,22 @@ def experiment_for(config: TrainBenchConfig, model: str, envs: int, compute: str
         env=EnvSettings(size=config.size, observation=MODEL_OBSERVATIONS[model][0]),
         model=ModelSettings(name=model, width=config.width, actor_critic_layers=config.layers, compute=compute),
         ppo=ppo,
+    )
+
+
+def scoring_settings(config: TrainBenchConfig) -> CurriculumSettings | None:
+    """SFL's settings whose scoring the breakdown times (None: none asked for): the candidates drawn in one batch,
+    a buffer of at most the default size (its cost is the top-k of the scores)."""
+    if not config.score_levels:
+        return None
+    return CurriculumSettings(
+        name="sfl",
+        score_levels=config.score_levels,
+        score_batch=config.score_levels,
+        score_steps=config.score_steps,
+        score_attempts=config.score_attempts,
+        buffer_size=min(config.score_levels, CurriculumSettings.buffer_size),
+        refresh_every=config.refresh_every,
     )
 
 
@@ -168,7 +191,14 @@ def _measure(config: TrainBenchConfig, model: str, envs: int, compute: str, pool
         setup = UpdateSetup(experiment, env, env_params, network, pool)
         update_ms = 1e3 * envs * config.num_steps / rate
         result.breakdown = measure_breakdown(
-            setup, runner, one_update, update_ms, config.min_time, config.seed, config.distinct_levels
+            setup,
+            runner,
+            one_update,
+            update_ms,
+            config.min_time,
+            config.seed,
+            config.distinct_levels,
+            scoring_settings(config),
         )
     if config.trace is not None:
         result.trace = str(Path(config.trace) / trace_name(result))

@@ -14,6 +14,8 @@ from kinetix_cli.errors import UserError
 from kinetix_cli.io import check_output_file
 
 bench_app = typer.Typer(no_args_is_help=True, help="Benchmarks: compile time and steady-state throughput.")
+SCORING = {"score_levels": 384, "score_attempts": 2, "score_steps": 256, "refresh_every": 64}
+"""The SFL scoring `bench train --breakdown` times by default: the general recipe's (`experiments/general.yaml`)."""
 
 
 @bench_app.command("engine")
@@ -165,10 +167,20 @@ def bench_train_command(
         False, "--breakdown", help="Also time each phase alone, the env alone, FLOPs and the matmul limit (1 device)."
     ),
     trace: Path = typer.Option(None, "--trace", help="Write a JAX profiler trace of a few updates per model here."),
+    score_levels: int = typer.Option(
+        SCORING["score_levels"],
+        min=0,
+        max=2**24,
+        help="With --breakdown, SFL's scoring timed beside the update: levels per refresh (0: none).",
+    ),
+    score_attempts: int = typer.Option(SCORING["score_attempts"], min=1, max=1024, help="Copies of each scored level."),
+    score_steps: int = typer.Option(SCORING["score_steps"], min=1, max=10**5, help="Steps each copy plays."),
+    refresh_every: int = typer.Option(SCORING["refresh_every"], min=1, max=INT32_MAX, help="Updates per refresh."),
     json_path: Path = typer.Option(None, "--json", help="Also write the results to this JSON file."),
 ) -> None:
     """PPO training env steps per second and compile time per model (whole jitted updates), on all local
-    devices or per device count (--devices 1,2); with --breakdown, where an update's time goes."""
+    devices or per device count (--devices 1,2); with --breakdown, where an update's time goes, and what SFL's
+    scoring adds (by default as the general recipe scores: 384 levels x 2 copies x 256 steps every 64 updates)."""
     if json_path is not None:
         check_output_file(json_path, "--json")
     from kinetix_cli.bench.train import TrainBenchConfig, bench_train
@@ -188,6 +200,10 @@ def bench_train_command(
         devices=None if devices is None else int_list("--devices", devices),
         breakdown=breakdown,
         trace=None if trace is None else str(trace),
+        score_levels=score_levels,
+        score_attempts=score_attempts,
+        score_steps=score_steps,
+        refresh_every=refresh_every,
     )
     columns = ("model", "observation", "size", "envs", "compute", "devices", "parameters", "compile [s]", "env steps/s")
     table = Table(*columns)
@@ -227,6 +243,10 @@ def _breakdown_table(r) -> Table:
         flops = (f"{p.gflop:.3g}", f"{rate:.3g}", limit(rate)) if p.gflop else ("", "", "")
         table.add_row(p.name, f"{p.ms:.1f}", f"{p.share:.0%}", "", *flops)
     table.add_row("phases summed", f"{b.phase_sum_ms:.1f}", f"{b.phase_sum_ms / b.update_ms:.0%}", "", "", "", "")
+    s = b.scoring
+    if s is not None:
+        table.add_row("SFL refresh", f"{s.refresh_ms:.1f}", "", f"{s.steps_per_s:,.0f}", "", "", "")
+        table.add_row(f"SFL per update (/{s.refresh_every})", f"{s.per_update_ms:.1f}", f"{s.share:.0%}", *[""] * 4)
     for m in b.matmuls:
         name = f"{'f32' if m.dtype == 'float32' else 'bf16'} {'x'.join(str(n) for n in m.shape)}"
         table.add_row(name, "", "", "", "", f"{m.gflop_per_s:.3g}", limit(m.gflop_per_s))
@@ -238,6 +258,11 @@ def _breakdown_table(r) -> Table:
         f"update's shapes (rows x inner x cols); best {b.best_limit_gflop_per_s:.3g} GFLOP/s. XLA's own cost of "
         f"the compiled update: {b.xla_update_gflop:.3g} GFLOP (loop bodies {counted})."
     )
+    if s is not None:
+        table.caption += (
+            f" SFL: one refresh scores {s.levels:,} pool levels x {s.attempts} copies x {s.steps} steps every "
+            f"{s.refresh_every} updates; its share is of a run's time, updates and scoring."
+        )
     return table
 
 

@@ -3,6 +3,7 @@ bad options are one-line errors before anything compiles."""
 
 from __future__ import annotations
 
+import inspect
 import json
 import types
 
@@ -11,10 +12,26 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
+from engine import SIZES
 from helpers.cli import kinetix
-from kinetix_cli.bench.breakdown import PHASES, UpdateSetup, matmul_shapes, xla_flops
-from kinetix_cli.bench.train import TrainBenchConfig, bench_train, experiment_for
+from helpers.paths import EXPERIMENTS
+from kinetix_cli.bench.breakdown import (
+    PHASES,
+    UpdateSetup,
+    matmul_shapes,
+    scoring_phase,
+    scoring_time,
+    xla_flops,
+)
+from kinetix_cli.bench.env import random_levels
+from kinetix_cli.bench.train import TrainBenchConfig, bench_train, experiment_for, scoring_settings
+from kinetix_cli.cli.bench import SCORING, bench_train_command
+from kinetix_cli.config import load_config
+from kinetix_cli.env.factory import make_env
 from kinetix_cli.errors import UserError
+from kinetix_cli.rl.buffer import empty_buffer
+from kinetix_cli.rl.networks import make_network
+from kinetix_cli.rl.ppo import init_runner
 
 TINY = {"envs": (4,), "num_steps": 4, "epochs": 1, "minibatches": 2, "width": 8, "layers": 1, "min_time": 0.0}
 
@@ -85,12 +102,39 @@ def _setup(experiment) -> UpdateSetup:
     return UpdateSetup(experiment, env=None, env_params=None, network=None, pool=None)
 
 
+def test_scoring_is_one_refresh_of_the_buffer_and_what_a_run_pays_for_it_per_update():
+    config = TrainBenchConfig(**TINY, score_levels=4, score_attempts=2, score_steps=3, refresh_every=4)
+    experiment = experiment_for(config, "flat-mlp", 4)
+    env, env_params = make_env(experiment.env)
+    network = make_network(experiment.model, experiment.env)
+    pool = random_levels(SIZES["s"], 4, 0)
+    runner = init_runner(env, network, experiment.ppo, pool, jax.random.key(0))
+    curriculum, setup = scoring_settings(config), UpdateSetup(experiment, env, env_params, network, pool)
+    scored = scoring_time(setup, runner, curriculum, 6.0, 0.0)
+    assert (scored.levels, scored.attempts, scored.steps, scored.refresh_every) == (4, 2, 3, 4)
+    assert scored.refresh_ms == pytest.approx(1e3 * 4 * 2 * 3 / scored.steps_per_s, rel=1e-9)  # [ms]
+    assert scored.per_update_ms == pytest.approx(scored.refresh_ms / 4, rel=1e-9)  # [ms]
+    assert scored.share == pytest.approx(scored.per_update_ms / (6.0 + scored.per_update_ms), rel=1e-9)
+    assert scoring_settings(TrainBenchConfig(**TINY)) is None  # 0 levels (the library's default): no scoring
+    empty = empty_buffer(pool, curriculum.buffer_size)
+    *_, refreshed = jax.jit(scoring_phase(setup, curriculum))(runner.params, runner.key, empty)
+    assert int(refreshed.rounds) == 1 and int(refreshed.size) == curriculum.buffer_size == 4  # a whole refresh
+
+
+def test_the_breakdown_scores_as_the_general_recipe_by_default():
+    recipe = load_config(EXPERIMENTS / "general.yaml").curriculum
+    assert {name: getattr(recipe, name) for name in SCORING} == SCORING
+    defaults = {name: p.default.default for name, p in inspect.signature(bench_train_command).parameters.items()}
+    assert {name: defaults[name] for name in SCORING} == SCORING
+
+
 # ~90 s on a loaded 2-core VM (compiles the update, the rollout, each phase and the env alone): make test-all
 @pytest.mark.slow
 def test_breakdown_and_trace_of_rel_mlp_through_the_cli(capsys, tmp_path):
     out, trace = tmp_path / "train.json", tmp_path / "trace"
     args = ["bench", "train", "--breakdown", "--trace", str(trace), "--models", "rel-mlp", "--envs", "4"]
     args += ["--steps", "4", "--epochs", "1", "--minibatches", "2", "--width", "8", "--layers", "1"]
+    args += ["--score-levels", "4", "--score-attempts", "1", "--score-steps", "4", "--refresh-every", "2"]
     printed = kinetix(capsys, *args, "--min-time", "0", "--json", str(out))
     code = printed.code
     assert code == 0, printed.err
@@ -109,5 +153,9 @@ def test_breakdown_and_trace_of_rel_mlp_through_the_cli(capsys, tmp_path):
     assert b["f32_limit_gflop_per_s"] > 0 and b["best_limit_gflop_per_s"] >= b["f32_limit_gflop_per_s"]
     share = b["update_gflop_per_s"] / b["f32_limit_gflop_per_s"]
     assert b["f32_limit_share"] == pytest.approx(share, rel=1e-6, abs=1e-12)  # [fraction]
+    scored = b["scoring"]
+    assert (scored["levels"], scored["attempts"], scored["steps"], scored["refresh_every"]) == (4, 1, 4, 2)
+    assert scored["refresh_ms"] > 0 and scored["per_update_ms"] == pytest.approx(scored["refresh_ms"] / 2, rel=1e-9)
+    assert "SFL per update (/2)" in printed.out
     assert row["trace"] == str(trace / "rel-mlp-s-envs4-devices1")
     assert list((trace / "rel-mlp-s-envs4-devices1").rglob("*.xplane.pb"))
