@@ -10,9 +10,8 @@ local devices (`kinetix_cli.parallel`), the environments split across them.
 
 With `breakdown`, each measurement also says where the update's time goes (`bench.breakdown`: the environment
 alone, each phase alone, FLOPs and the machine's matmul limit, and with `score_levels` SFL's scoring beside it),
-on one device. With `trace`, a JAX profiler trace
-of `TRACE_UPDATES` updates of each measurement is written under that folder, one subfolder per measurement
-(`trace_name`).
+on one device. With `trace`, a JAX profiler trace of `TRACE_UPDATES` updates of each measurement is written under
+that folder, one subfolder per measurement (`trace_name`).
 """
 
 from __future__ import annotations
